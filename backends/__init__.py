@@ -1,0 +1,1 @@
+"""Built-in backends (gesture providers). Plugins: they use only the public host API."""

@@ -1,0 +1,1 @@
+"""Built-in effects. Plugins: they use only the public host API."""

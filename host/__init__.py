@@ -1,0 +1,26 @@
+"""issv host: the frozen core. Plugins import what they need from here and nowhere else in host."""
+from host.contracts import Backend, Effect, NoOptions, Plugin, PluginUnavailable, Source, Stage
+from host.hookspecs import hookimpl
+from host.model import (
+    CANONICAL_GESTURES,
+    DepthFrame,
+    Frame,
+    Gesture,
+    GestureState,
+    GestureType,
+    Hand,
+    HandState,
+    Intrinsics,
+    Side,
+    Truth,
+    TruthGesture,
+    Vec3,
+)
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Backend", "CANONICAL_GESTURES", "DepthFrame", "Effect", "Frame", "Gesture", "GestureState",
+    "GestureType", "Hand", "HandState", "Intrinsics", "NoOptions", "Plugin", "PluginUnavailable",
+    "Side", "Source", "Stage", "Truth", "TruthGesture", "Vec3", "hookimpl", "__version__",
+]

@@ -1,0 +1,18 @@
+"""Turns a validated profile into live objects: source -> backend -> effect stack."""
+from __future__ import annotations
+
+from host.contracts import Backend, Source
+from host.loop import EffectSlot, PacedSource
+from host.profile import Profile
+
+
+def make_backend(profile: Profile, realtime: bool = True) -> Backend:
+    """The profile's backend on its source (paced to real time unless `realtime` is False)."""
+    source: Source | PacedSource | None = None
+    if profile.backend.cls.needs_source and profile.source is not None:
+        source = PacedSource(profile.source.cls(profile.source.options), realtime)
+    return profile.backend.cls(source, profile.backend.options)
+
+
+def make_effects(profile: Profile) -> list[EffectSlot]:
+    return [EffectSlot(r.cls(r.options), r.where, r.ref.blend, r.ref.opacity) for r in profile.effects]

@@ -1,0 +1,1 @@
+"""One module per `issv` subcommand (discovered by host.cli)."""

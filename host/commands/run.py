@@ -1,0 +1,83 @@
+"""`issv run PROFILE`: play a show."""
+from __future__ import annotations
+
+import argparse
+import json
+import signal
+import sys
+from pathlib import Path
+
+from host import profile as profiles
+from host.assemble import make_backend, make_effects
+from host.contracts import Stage
+from host.errors import UserError
+from host.loop import Limits, Show
+from host.plugins import default_manager
+from host.status import StatusLine, summary
+
+HELP = "run a show from a profile (windowed, fullscreen, or --headless)"
+
+
+def size(text: str) -> tuple[int, int]:
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+        if w > 0 and h > 0:
+            return (w, h)
+    except ValueError:
+        pass
+    raise argparse.ArgumentTypeError(f"expected WIDTHxHEIGHT such as 1280x720, got {text!r}")
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("profile", help="a profile TOML file, e.g. profiles/demo.toml")
+    p.add_argument("--headless", action="store_true", help="no window (EGL offscreen rendering)")
+    p.add_argument("--frames", type=int, metavar="N", help="stop after N sensor frames")
+    p.add_argument("--seconds", type=float, metavar="S", help="stop after S seconds of source time")
+    p.add_argument("--metrics-json", metavar="FILE", help="write the final metrics as JSON")
+    p.add_argument("--size", type=size, metavar="WxH", help="output size in pixels, e.g. 1920x1080")
+    p.add_argument("--out", metavar="FILE.mp4", help="also write the show to a video file")
+    p.add_argument("--snapshot", metavar="FILE.png", help="save the last rendered frame as PNG")
+    p.add_argument("--fast", action="store_true", help="do not pace recorded sources: as fast as possible")
+
+
+def needs_renderer(prof: profiles.Profile, args: argparse.Namespace) -> bool:
+    out = prof.model.output
+    wants_window = not args.headless and out.mode != "headless"
+    return (any(r.cls.renders for r in prof.effects) or wants_window
+            or bool(args.out or args.snapshot or out.video or out.snapshot))
+
+
+def main(args: argparse.Namespace) -> int:
+    prof = profiles.load(args.profile)
+    for warning in prof.warnings:
+        print(f"issv: {warning}; that effect is skipped", file=sys.stderr)
+    output = prof.model.output
+    if args.size:
+        output.size = args.size
+    if args.headless:
+        output.mode = "headless"
+    if args.out:
+        output.video = args.out
+    if args.snapshot:
+        output.snapshot = args.snapshot
+    backend = make_backend(prof, realtime=not args.fast)
+    effects = make_effects(prof)
+    stage = Stage(size=tuple(output.size), fps=output.fps, backend=backend.name)
+    renderer = None
+    if needs_renderer(prof, args):
+        from host.render import make_renderer  # moderngl is imported only when a show draws
+        renderer = make_renderer(output, stage)
+    status = StatusLine()
+    show = Show(backend, effects, stage, pm=default_manager(), limits=Limits(args.frames, args.seconds),
+                renderer=renderer, status=status)
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: show.request_stop())
+    with status:
+        metrics = show.run()
+    summary(metrics)
+    if args.metrics_json:
+        Path(args.metrics_json).write_text(json.dumps(metrics.to_json(), indent=2) + "\n")
+    if show.sensor_error is not None:
+        err = show.sensor_error
+        raise UserError(f"issv: backend {backend.name!r} failed: {type(err).__name__}: {err}")
+    return 0

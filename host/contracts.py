@@ -1,0 +1,159 @@
+"""What a source, a backend and an effect are: the hot spots of the framework (thesis ch. 3.2).
+
+Plugins subclass these and hand the classes to `register(...)` in their hook implementations.
+Every class has a `name` (what profiles say) and an `Options` pydantic model (what profiles may
+set); `availability()` says, without raising, whether it can run here and if not how to fix it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+from pydantic import BaseModel, ConfigDict
+
+from host.model import DepthFrame, Frame, Gesture, Intrinsics, Vec3
+
+
+class NoOptions(BaseModel):
+    """Options of a plugin that takes none: anything set in the profile is an error."""
+
+    model_config = ConfigDict(extra="forbid")
+
+
+class PluginUnavailable(RuntimeError):
+    """A plugin cannot run here; the message says what is missing and how to get it."""
+
+
+class Plugin:
+    """Common to sources, backends and effects: a name, validated options, availability."""
+
+    name: ClassVar[str] = ""
+    Options: ClassVar[type[BaseModel]] = NoOptions
+
+    def __init__(self, options: BaseModel | None = None) -> None:
+        self.options = options if options is not None else self.Options()
+
+    @classmethod
+    def availability(cls) -> str | None:
+        """None when this plugin can run here; otherwise why not and how to fix it."""
+        return None
+
+
+class Source(Plugin):
+    """Where depth comes from. `read()` returns the next frame, or None at the end of the stream.
+
+    A source that is not `live` (a clip, the synthetic performer) is paced by the host from its
+    frames' timestamps; a live one (a camera) blocks in `read()` until the device delivers.
+    """
+
+    fps: float = 30.0
+    live: ClassVar[bool] = False
+    intrinsics: Intrinsics
+
+    def open(self) -> None:
+        """Acquire the device or file."""
+
+    def read(self) -> DepthFrame | None:
+        raise NotImplementedError
+
+    def close(self) -> None:
+        """Release the device or file."""
+
+
+class Backend(Plugin):
+    """A gesture provider: the OIGestureTracker contract (thesis Fig. 31) in Python form.
+
+    The host calls `init()`, the start methods, then `update()` on its sensor thread until it
+    returns None (the source ended), then `stop()`. Backends that compute from depth read their
+    `source`; others (network, replay) make frames of their own and take `source=None`.
+    """
+
+    needs_source: ClassVar[bool] = True
+
+    def __init__(self, source: Source | None = None, options: BaseModel | None = None) -> None:
+        super().__init__(options)
+        self.source = source
+        self.detecting_gestures = False
+        self.tracking_hands = False
+
+    def init(self) -> None:
+        if self.source is not None:
+            self.source.open()
+
+    def start_gesture_detection(self) -> None:
+        self.detecting_gestures = True
+
+    def stop_gesture_detection(self) -> None:
+        self.detecting_gestures = False
+
+    def start_hand_tracking(self) -> None:
+        self.tracking_hands = True
+
+    def stop_hand_tracking(self) -> None:
+        self.tracking_hands = False
+
+    def update(self) -> Frame | None:
+        raise NotImplementedError
+
+    def stop(self) -> None:
+        self.stop_gesture_detection()
+        self.stop_hand_tracking()
+        if self.source is not None:
+            self.source.close()
+
+    def world_to_depth(self, position: Vec3) -> tuple[float, float, float]:
+        """convertHandCoordinatesToDepth: mm -> (u, v, z) in the source's depth image."""
+        if self.source is None:
+            raise PluginUnavailable(f"backend {self.name!r} has no depth source to project into")
+        return self.source.intrinsics.world_to_depth(*position)
+
+    def __enter__(self) -> "Backend":
+        self.init()
+        self.start_hand_tracking()
+        self.start_gesture_detection()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.stop()
+
+
+@dataclass
+class Stage:
+    """What an effect gets in `setup`: the output it draws for and the host's state.
+
+    `ctx` is the moderngl context (None when the show renders nothing); `size` is the output size
+    in pixels; `metrics` is the live Metrics object (read-only for effects).
+    """
+
+    size: tuple[int, int]
+    fps: float
+    backend: str
+    ctx: Any = None
+    metrics: Any = None
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+class Effect(Plugin):
+    """A visual or sound effect. Override only the hooks you need.
+
+    Gesture events arrive through `on_gesture` exactly once each, in order; `on_frame` gets the
+    newest frame (hands may skip frames, gestures never do). Render effects set `renders = True`
+    and draw their layer in `render`.
+    """
+
+    renders: ClassVar[bool] = False
+
+    def setup(self, stage: Stage) -> None:
+        self.stage = stage
+
+    def on_gesture(self, gesture: Gesture) -> None:
+        pass
+
+    def on_frame(self, frame: Frame) -> None:
+        pass
+
+    def render(self, target: Any) -> None:
+        pass
+
+    def close(self) -> None:
+        pass

@@ -1,0 +1,45 @@
+"""The hook specifications: registration at start-up, lifecycle notifications. Nothing per frame.
+
+Frames never travel through pluggy: one raising hookimpl aborts a whole hook call and the order
+across plugins is not defined, so the host calls the collected objects itself, in profile order.
+"""
+from __future__ import annotations
+
+from typing import Any, Callable
+
+import pluggy
+
+hookspec = pluggy.HookspecMarker("issv")
+hookimpl = pluggy.HookimplMarker("issv")
+
+Register = Callable[[type], None]
+
+
+@hookspec
+def register_backends(register: Register) -> None:
+    """Hand over Backend classes: `register(MyBackend)`."""
+
+
+@hookspec
+def register_sources(register: Register) -> None:
+    """Hand over Source classes: `register(MySource)`."""
+
+
+@hookspec
+def register_effects(register: Register) -> None:
+    """Hand over Effect classes: `register(MyEffect)`."""
+
+
+@hookspec
+def host_started(show: Any) -> None:
+    """The show is running: sources opened, backend initialised, effects set up."""
+
+
+@hookspec
+def host_stopping(show: Any) -> None:
+    """The show is about to stop; `show.metrics` holds the final figures."""
+
+
+@hookspec
+def effect_failed(effect: Any, error: BaseException, phase: str) -> None:
+    """An effect raised in `phase` (setup, on_gesture, on_frame, render) and was disabled."""

@@ -1,0 +1,250 @@
+"""The frame loop: a sensor thread drives the backend, the show loop drives the effects.
+
+Two paths, kept apart on purpose (DESIGN.md, STYLE.md):
+- hands and depth travel in `Latest`, a one-frame slot: the newest frame wins, older ones are
+  counted as dropped (the show loop may run slower or faster than the sensor);
+- gesture events travel in `GestureQueue`, a FIFO that is never trimmed: every effect sees every
+  event exactly once, in order, even when the show loop falls behind.
+"""
+from __future__ import annotations
+
+import dataclasses
+import sys
+import threading
+import time
+from collections import deque
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import pluggy
+
+from host.contracts import Backend, Effect, Source, Stage
+from host.metrics import Metrics
+from host.model import DepthFrame, Frame, Gesture
+
+
+class PacedSource:
+    """Wraps a source: paces a recorded one to real time and stamps every frame's capture time."""
+
+    def __init__(self, source: Source, realtime: bool) -> None:
+        self.inner = source
+        self.realtime = realtime and not source.live
+        self._origin: tuple[float, float] | None = None  # (wall time, source time) of frame 0
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.inner, name)
+
+    def read(self) -> DepthFrame | None:
+        frame = self.inner.read()
+        if frame is None:
+            return None
+        if self.realtime:
+            if self._origin is None:
+                self._origin = (time.perf_counter(), frame.timestamp)
+            due = self._origin[0] + (frame.timestamp - self._origin[1])
+            delay = due - time.perf_counter()
+            if delay > 0:
+                time.sleep(delay)
+        return dataclasses.replace(frame, capture_time=time.time())
+
+
+class Latest:
+    """The newest frame and how many frames were published (newest wins)."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._frame: Frame | None = None
+        self._count = 0
+
+    def publish(self, frame: Frame) -> None:
+        with self._lock:
+            self._frame, self._count = frame, self._count + 1
+
+    def take(self) -> tuple[Frame | None, int]:
+        with self._lock:
+            return self._frame, self._count
+
+
+class GestureQueue:
+    """Gesture events in arrival order; drained whole by the show loop (deque is thread-safe)."""
+
+    def __init__(self) -> None:
+        self._events: deque[Gesture] = deque()
+
+    def put_all(self, gestures: tuple[Gesture, ...]) -> None:
+        self._events.extend(gestures)
+
+    def drain(self) -> list[Gesture]:
+        out = []
+        while self._events:
+            out.append(self._events.popleft())
+        return out
+
+    def __len__(self) -> int:
+        return len(self._events)
+
+
+@dataclass
+class EffectSlot:
+    """An effect in the stack, where the profile put it, and whether it is still running."""
+
+    effect: Effect
+    where: str
+    blend: str = "normal"
+    opacity: float = 1.0
+    enabled: bool = True
+
+
+@dataclass
+class Limits:
+    """When a show ends by itself: after N sensor frames or S seconds of source time."""
+
+    frames: int | None = None
+    seconds: float | None = None
+
+
+class Show:
+    """Runs one show: owns timing, metrics and lifecycle; plugins only answer when called."""
+
+    def __init__(self, backend: Backend, effects: list[EffectSlot], stage: Stage, *,
+                 pm: pluggy.PluginManager | None = None, limits: Limits = Limits(),
+                 renderer: Any = None, status: Callable[["Show"], None] | None = None) -> None:
+        self.backend = backend
+        self.effects = effects
+        self.stage = stage
+        self.pm = pm
+        self.limits = limits
+        self.renderer = renderer
+        self.status = status
+        self.metrics = Metrics(backend.name, getattr(backend.source, "fps", 0.0) if backend.source else 0.0)
+        stage.metrics = self.metrics
+        self.latest = Latest()
+        self.gestures = GestureQueue()
+        self._stop = threading.Event()
+        self._sensor_done = threading.Event()
+        self._wake = threading.Event()  # set by the sensor: new data, deliver it now
+        self.sensor_error: BaseException | None = None
+
+    def request_stop(self) -> None:
+        """Ctrl-C, SIGTERM or a window close: stop cleanly at the next frame."""
+        self._stop.set()
+
+    # -- sensor thread -------------------------------------------------------------------------
+    def _sensor(self) -> None:
+        first_t: float | None = None
+        deadline = None if self.limits.seconds is None else time.time() + self.limits.seconds + 5.0
+        try:
+            while not self._stop.is_set():
+                frame = self.backend.update()
+                if frame is None:
+                    break
+                self.metrics.sensor_frame(frame)
+                self.gestures.put_all(frame.gestures)
+                self.latest.publish(frame)
+                self._wake.set()
+                first_t = frame.timestamp if first_t is None else first_t
+                if self.limits.frames is not None and self.metrics.frames >= self.limits.frames:
+                    break
+                if self.limits.seconds is not None and (frame.timestamp - first_t >= self.limits.seconds
+                                                        or time.time() > deadline):
+                    break
+        except Exception as error:  # the backend failed: report it, end the show cleanly
+            self.sensor_error = error
+        finally:
+            self._sensor_done.set()
+            self._wake.set()
+
+    # -- show loop -----------------------------------------------------------------------------
+    def _call(self, slot: EffectSlot, phase: str, *args: Any) -> None:
+        try:
+            getattr(slot.effect, phase)(*args)
+        except Exception as error:
+            self.disable(slot, phase, error)
+
+    def disable(self, slot: EffectSlot, phase: str, error: BaseException) -> None:
+        """One failing effect is switched off with one message; the others go on."""
+        slot.enabled = False
+        print(f"issv: effect {slot.effect.name!r} ({slot.where}) raised {type(error).__name__} in {phase}: "
+              f"{error}; it is disabled, the show goes on", file=sys.stderr, flush=True)
+        if self.pm is not None:
+            self.pm.hook.effect_failed(effect=slot.effect, error=error, phase=phase)
+
+    def _running(self) -> list[EffectSlot]:
+        return [s for s in self.effects if s.enabled]
+
+    def _tick(self, last_count: int) -> int:
+        """One show-loop iteration: gestures first (all of them), then the newest frame, then render."""
+        for gesture in self.gestures.drain():
+            self.metrics.gesture(gesture)
+            for slot in self._running():
+                self._call(slot, "on_gesture", gesture)
+        frame, count = self.latest.take()
+        if frame is not None and count != last_count:
+            for slot in self._running():
+                self._call(slot, "on_frame", frame)
+        if self.renderer is not None:
+            self.renderer.render(self, frame)
+        if frame is not None and count != last_count:
+            self.metrics.delivered(frame, skipped=count - last_count - 1)
+        self.metrics.rendered_frame()
+        return count
+
+    def run(self) -> Metrics:
+        for slot in self.effects:
+            self._call(slot, "setup", self.stage)
+        self.backend.init()
+        if self.backend.source is not None:
+            self.metrics.source_fps = float(self.backend.source.fps)
+        try:
+            self.backend.start_hand_tracking()
+            self.backend.start_gesture_detection()
+            if self.pm is not None:
+                self.pm.hook.host_started(show=self)
+            sensor = threading.Thread(target=self._sensor, name="issv-sensor", daemon=True)
+            sensor.start()
+            self._show_loop()
+            self._stop.set()
+            sensor.join(timeout=2.0)
+            if self.pm is not None:
+                self.pm.hook.host_stopping(show=self)
+        finally:
+            self.backend.stop()
+            for slot in self.effects:
+                try:
+                    slot.effect.close()
+                except Exception as error:
+                    print(f"issv: effect {slot.effect.name!r} ({slot.where}) raised in close: {error}", file=sys.stderr)
+            if self.renderer is not None:
+                self.renderer.close()
+        return self.metrics
+
+    def _show_loop(self) -> None:
+        """Tick at the output rate, and at once when the sensor publishes (low latency), but never
+        sooner than half a period after the previous tick (the output rate stays the cap)."""
+        period = 1.0 / self.stage.fps
+        count = 0
+        last_tick = 0.0
+        while not self._stop.is_set():
+            done = self._sensor_done.is_set()  # read before the tick so the last frame is delivered
+            self._wake.clear()
+            last_tick = time.perf_counter()
+            count = self._tick(count)
+            if self.status is not None:
+                self.status(self)
+            if done and not len(self.gestures) and self.latest.take()[1] == count:
+                break
+            if self.renderer is not None and getattr(self.renderer, "wants_stop", False):
+                break
+            self._wait(last_tick, period)
+
+    def _wait(self, last_tick: float, period: float) -> None:
+        deadline = last_tick + period
+        while not self._stop.is_set():
+            now = time.perf_counter()
+            if now >= deadline:
+                return
+            if self._wake.wait(deadline - now) and time.perf_counter() - last_tick >= period / 2:
+                return
+            if self._wake.is_set():  # woke too early: let the output rate cap hold
+                time.sleep(max(0.0, last_tick + period / 2 - time.perf_counter()))
+                return

@@ -1,0 +1,235 @@
+"""The data model every part of issv speaks (DESIGN.md, thesis Fig. 32-33).
+
+Positions are millimetres in camera coordinates: x right (towards the image's right), y up,
+z away from the camera. Times are seconds. Frames and events are immutable so that the sensor
+thread can hand them to the show loop without copies or locks.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from enum import Enum
+
+import numpy as np
+
+Vec3 = tuple[float, float, float]
+
+
+class HandState(str, Enum):
+    """OIHandState."""
+
+    NEW = "new"
+    TRACKING = "tracking"
+    LOST = "lost"
+    TOUCHING_FOV = "touching_fov"
+    ABSENT = "absent"
+
+
+class GestureState(str, Enum):
+    """OIGestureState (ABSENT is never emitted: no event means no gesture)."""
+
+    IN_PROGRESS = "in_progress"
+    COMPLETE = "complete"
+
+
+class GestureType(str, Enum):
+    """OIGestureType: NiTE2's dictionary (WAVE, CLICK, HAND_RAISE) and Nuitrack's."""
+
+    WAVE = "WAVE"
+    CLICK = "CLICK"
+    HAND_RAISE = "HAND_RAISE"
+    WAVING = "WAVING"
+    PUSH = "PUSH"
+    SWIPE_LEFT = "SWIPE_LEFT"
+    SWIPE_RIGHT = "SWIPE_RIGHT"
+    SWIPE_UP = "SWIPE_UP"
+    SWIPE_DOWN = "SWIPE_DOWN"
+
+    @property
+    def canonical(self) -> str:
+        """The middleware-independent name (`wave` for WAVE and WAVING, `click` for CLICK and PUSH)."""
+        return _CANONICAL[self]
+
+    @classmethod
+    def from_canonical(cls, name: str) -> "GestureType":
+        """The first dictionary entry with this canonical name (WAVE for `wave`, CLICK for `click`)."""
+        for member in cls:
+            if member.canonical == name:
+                return member
+        raise ValueError(f"unknown gesture {name!r}; expected one of {', '.join(CANONICAL_GESTURES)}")
+
+
+_CANONICAL = {
+    GestureType.WAVE: "wave",
+    GestureType.WAVING: "wave",
+    GestureType.CLICK: "click",
+    GestureType.PUSH: "click",
+    GestureType.HAND_RAISE: "hand_raise",
+    GestureType.SWIPE_LEFT: "swipe_left",
+    GestureType.SWIPE_RIGHT: "swipe_right",
+    GestureType.SWIPE_UP: "swipe_up",
+    GestureType.SWIPE_DOWN: "swipe_down",
+}
+CANONICAL_GESTURES: tuple[str, ...] = (
+    "wave", "click", "hand_raise", "swipe_left", "swipe_right", "swipe_up", "swipe_down",
+)
+
+
+class Side(str, Enum):
+    """Which hand, from the performer's point of view."""
+
+    LEFT = "left"
+    RIGHT = "right"
+    UNKNOWN = "unknown"
+
+
+@dataclass(frozen=True)
+class Intrinsics:
+    """Pinhole intrinsics in pixels: world mm <-> depth pixels (convertHandCoordinatesToDepth)."""
+
+    fx: float
+    fy: float
+    cx: float
+    cy: float
+
+    @classmethod
+    def from_fov(cls, width: int, height: int, hfov_deg: float, vfov_deg: float) -> "Intrinsics":
+        """Intrinsics of a sensor with this resolution and field of view (Kinect v1: 57 x 43 degrees)."""
+        fx = (width / 2) / np.tan(np.radians(hfov_deg) / 2)
+        fy = (height / 2) / np.tan(np.radians(vfov_deg) / 2)
+        return cls(float(fx), float(fy), width / 2, height / 2)
+
+    def world_to_depth(self, x: float, y: float, z: float) -> tuple[float, float, float]:
+        """(x, y, z) mm -> (u, v, z): pixel column, pixel row, depth in mm."""
+        return (x * self.fx / z + self.cx, self.cy - y * self.fy / z, z)
+
+    def depth_to_world(self, u: float, v: float, z: float) -> Vec3:
+        """(u, v, z) pixel column, row and depth in mm -> (x, y, z) mm."""
+        return ((u - self.cx) * z / self.fx, (self.cy - v) * z / self.fy, z)
+
+    def scaled(self, sx: float, sy: float) -> "Intrinsics":
+        """The same camera seen at another resolution (sx, sy: new size / old size)."""
+        return Intrinsics(self.fx * sx, self.fy * sy, self.cx * sx, self.cy * sy)
+
+    def as_list(self) -> list[float]:
+        return [self.fx, self.fy, self.cx, self.cy]
+
+
+@dataclass(frozen=True)
+class TruthGesture:
+    """A gesture the performer really did, with its interval in source seconds."""
+
+    name: str
+    side: Side
+    start: float
+    end: float
+
+
+@dataclass(frozen=True)
+class Truth:
+    """Ground truth a source knows (synthetic performer, clips with skeletons)."""
+
+    hands: dict[Side, Vec3] = field(default_factory=dict)
+    gestures: tuple[TruthGesture, ...] = ()
+    body: dict[str, Vec3] = field(default_factory=dict)
+
+
+@dataclass(frozen=True, eq=False)
+class DepthFrame:
+    """One depth image: uint16 millimetres, 0 = no reading. Owns a read-only copy of its array.
+
+    `timestamp` is the source's clock (seconds into a clip); `capture_time` is the host's wall
+    clock (time.time()) when the frame was captured, so latency can be measured across processes.
+    """
+
+    data: np.ndarray
+    intrinsics: Intrinsics
+    frame_id: int = 0
+    timestamp: float = 0.0
+    capture_time: float = field(default_factory=time.time)
+    mirrored: bool = True
+    truth: Truth | None = None
+
+    def __post_init__(self) -> None:
+        data = self.data
+        if data.dtype != np.uint16 or data.ndim != 2:
+            raise ValueError(f"DepthFrame.data must be a 2-D uint16 array, got {data.dtype} {data.shape}")
+        if data.flags.writeable or data.base is not None or not data.flags.c_contiguous:
+            data = np.ascontiguousarray(data).copy()
+            data.flags.writeable = False
+            object.__setattr__(self, "data", data)
+
+    @property
+    def width(self) -> int:
+        return int(self.data.shape[1])
+
+    @property
+    def height(self) -> int:
+        return int(self.data.shape[0])
+
+    def world_to_depth(self, position: Vec3) -> tuple[float, float, float]:
+        return self.intrinsics.world_to_depth(*position)
+
+    def depth_to_world(self, u: float, v: float, z: float) -> Vec3:
+        return self.intrinsics.depth_to_world(u, v, z)
+
+
+@dataclass(frozen=True)
+class Hand:
+    """OIHandData: one tracked hand."""
+
+    id: int
+    state: HandState
+    position: Vec3
+    side: Side = Side.UNKNOWN
+    user_id: int = 1
+    confidence: float = 1.0
+
+    def to_json(self) -> dict:
+        return {"id": self.id, "state": self.state.value, "side": self.side.value,
+                "position": [round(c, 1) for c in self.position]}
+
+
+@dataclass(frozen=True)
+class Gesture:
+    """OIGestureData: one gesture event. `timestamp` is source seconds."""
+
+    type: GestureType
+    state: GestureState
+    position: Vec3
+    hand_id: int = 0
+    side: Side = Side.UNKNOWN
+    confidence: float = 1.0
+    timestamp: float = 0.0
+
+    @property
+    def name(self) -> str:
+        """Canonical name: an effect that listens for `wave` works on every backend."""
+        return self.type.canonical
+
+    def to_json(self) -> dict:
+        return {"t": round(self.timestamp, 4), "type": "gesture", "name": self.name,
+                "native": self.type.value, "state": self.state.value, "hand": self.hand_id,
+                "side": self.side.value, "position": [round(c, 1) for c in self.position],
+                "confidence": round(self.confidence, 3)}
+
+
+@dataclass(frozen=True)
+class Frame:
+    """One sensor instant as a backend reports it."""
+
+    seq: int
+    capture_time: float
+    depth: DepthFrame | None
+    hands: tuple[Hand, ...] = ()
+    gestures: tuple[Gesture, ...] = ()
+    backend: str = ""
+    user_mask: np.ndarray | None = None  # bool (H, W) like depth: the performer's pixels, if known
+
+    @property
+    def timestamp(self) -> float:
+        return self.depth.timestamp if self.depth is not None else 0.0
+
+    def hands_json(self) -> dict:
+        """The `hands` event line of `issv track`."""
+        return {"t": round(self.timestamp, 4), "type": "hands", "hands": [h.to_json() for h in self.hands]}

@@ -1,0 +1,134 @@
+"""The plugin manager: loads entry points one at a time, collects what the hooks register.
+
+Built-in backends, sources and effects are ordinary plugins listed in pyproject.toml under the
+`issv` entry-point group, exactly as a third-party package lists its own.
+"""
+from __future__ import annotations
+
+import importlib.metadata
+import os
+import sys
+from dataclasses import dataclass
+from functools import cache
+from typing import Iterable
+
+import pluggy
+
+from host import hookspecs
+from host.contracts import Backend, Effect, Plugin, Source
+
+KINDS: dict[str, type[Plugin]] = {"backends": Backend, "sources": Source, "effects": Effect}
+ENTRY_POINT_GROUP = "issv"
+
+
+class PluginError(RuntimeError):
+    """A plugin could not be loaded or registered (fatal only in strict mode)."""
+
+
+@dataclass(frozen=True)
+class Registered:
+    """One registered class and the plugin that handed it over."""
+
+    kind: str
+    name: str
+    cls: type[Plugin]
+    plugin: str
+
+    def availability(self) -> str | None:
+        try:
+            return self.cls.availability()
+        except Exception as error:  # a broken availability check is itself a reason
+            return f"availability check raised {type(error).__name__}: {error}"
+
+    def to_json(self) -> dict:
+        reason = self.availability()
+        return {"name": self.name, "available": reason is None, "reason": reason, "plugin": self.plugin}
+
+
+class Registry:
+    """Everything registered, by kind and name; refuses duplicates with a clear message."""
+
+    def __init__(self) -> None:
+        self.items: dict[str, dict[str, Registered]] = {kind: {} for kind in KINDS}
+        self.problems: list[str] = []
+
+    def register(self, kind: str, cls: type, plugin: str) -> None:
+        base = KINDS[kind]
+        if not (isinstance(cls, type) and issubclass(cls, base)):
+            raise PluginError(f"plugin {plugin!r} registered {cls!r} as one of its {kind}, "
+                              f"but it is not a subclass of host.{base.__name__}")
+        if not cls.name:
+            raise PluginError(f"plugin {plugin!r}: {cls.__name__} has no `name`; set name = \"...\" on the class")
+        existing = self.items[kind].get(cls.name)
+        if existing is not None:
+            raise PluginError(f"plugin {plugin!r} registers {kind[:-1]} {cls.name!r}, "
+                              f"already registered by plugin {existing.plugin!r}; rename one of them")
+        self.items[kind][cls.name] = Registered(kind, cls.name, cls, plugin)
+
+    def get(self, kind: str, name: str) -> Registered | None:
+        return self.items[kind].get(name)
+
+    def names(self, kind: str) -> list[str]:
+        return sorted(self.items[kind])
+
+    def all(self, kind: str) -> Iterable[Registered]:
+        return (self.items[kind][n] for n in self.names(kind))
+
+
+def strict() -> bool:
+    return os.environ.get("ISSV_STRICT_PLUGINS", "") not in ("", "0")
+
+
+def _report(message: str) -> None:
+    if strict():
+        raise PluginError(message + " (ISSV_STRICT_PLUGINS is set)")
+    print(f"issv: {message}; skipped (set ISSV_STRICT_PLUGINS=1 to make this fatal)", file=sys.stderr)
+
+
+def make_manager() -> pluggy.PluginManager:
+    """A fresh plugin manager with every installed entry point loaded, broken ones skipped."""
+    pm = pluggy.PluginManager("issv")
+    pm.add_hookspecs(hookspecs)
+    for ep in importlib.metadata.entry_points(group=ENTRY_POINT_GROUP):
+        dist = ep.dist.name if ep.dist is not None else "?"
+        if pm.get_plugin(ep.name) is not None:
+            continue  # the same distribution seen twice on sys.path
+        try:
+            module = ep.load()
+            pm.register(module, name=ep.name)
+        except Exception as error:
+            _report(f"plugin {ep.name!r} from distribution {dist!r} failed to load: "
+                    f"{type(error).__name__}: {error}")
+    try:
+        pm.check_pending()
+    except pluggy.PluginValidationError as error:
+        _report(f"plugin {error.plugin_name!r} implements a hook issv does not have: {error}")
+    return pm
+
+
+def collect(pm: pluggy.PluginManager) -> Registry:
+    """Ask every plugin to register its classes, one plugin at a time so one failure stays local."""
+    registry = Registry()
+    for kind in KINDS:
+        caller = getattr(pm.hook, f"register_{kind}")
+        for impl in caller.get_hookimpls():
+            try:
+                impl.function(register=lambda cls, _k=kind, _p=impl.plugin_name: registry.register(_k, cls, _p))
+            except Exception as error:
+                _report(f"plugin {impl.plugin_name!r} failed in register_{kind}: {type(error).__name__}: {error}")
+    return registry
+
+
+@cache
+def default_manager() -> pluggy.PluginManager:
+    return make_manager()
+
+
+def default_registry() -> Registry:
+    """The registry of the installed plugins (loaded once per process)."""
+    return _default_registry()
+
+
+@cache
+def _default_registry() -> Registry:
+    return collect(default_manager())

@@ -1,0 +1,184 @@
+"""Profiles: TOML files naming a source, a backend, a stack of effects and the output.
+
+Validation reports every problem as one line `FILE: key.path: expected ..., got ...` so an artist
+can fix a profile without reading a traceback.
+"""
+from __future__ import annotations
+
+import json
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+
+from host.errors import ProfileError
+from host.plugins import Registry, default_registry
+
+
+class PluginRef(BaseModel):
+    """`name` picks the plugin; every other key is that plugin's option."""
+
+    model_config = ConfigDict(extra="allow")
+    name: str
+
+    @property
+    def options(self) -> dict[str, Any]:
+        return dict(self.model_extra or {})
+
+
+class EffectRef(PluginRef):
+    """An effect in the stack; the host owns how its layer is composited."""
+
+    blend: Literal["normal", "add", "screen", "multiply"] = "normal"
+    opacity: float = Field(1.0, ge=0, le=1)
+    enabled: bool = True
+
+
+class Output(BaseModel):
+    """Where the show goes. `--headless`, `--size`, `--out` and `--snapshot` override these."""
+
+    model_config = ConfigDict(extra="forbid")
+    size: tuple[int, int] = (1280, 720)
+    fps: float = Field(60.0, gt=0, le=240)
+    mode: Literal["window", "fullscreen", "headless"] = "window"
+    monitor: int = Field(0, ge=0)
+    hud: bool = True
+    video: str | None = None
+    snapshot: str | None = None
+    keystone: list[tuple[float, float]] | None = None
+    calibration: list[list[float]] | None = None
+
+
+def _shorthand(value: Any) -> Any:
+    return {"name": value} if isinstance(value, str) else value
+
+
+class ProfileModel(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    name: str = ""
+    description: str = ""
+    source: PluginRef = PluginRef(name="synthetic")
+    backend: PluginRef = PluginRef(name="openiss")
+    effects: list[EffectRef] = []
+    output: Output = Output()
+
+    _shorthands = field_validator("source", "backend", mode="before")(lambda cls, v: _shorthand(v))
+
+
+@dataclass
+class Resolved:
+    """A plugin reference checked against the registry: its class and validated options."""
+
+    ref: PluginRef
+    cls: type
+    options: BaseModel
+    where: str
+
+
+@dataclass
+class Profile:
+    path: Path
+    model: ProfileModel
+    source: Resolved | None
+    backend: Resolved
+    effects: list[Resolved]
+    warnings: list[str]
+
+
+def _path(loc: tuple) -> str:
+    out = ""
+    for part in loc:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
+    return out
+
+
+def _got(value: Any) -> str:
+    try:
+        return json.dumps(value)
+    except (TypeError, ValueError):
+        return repr(value)
+
+
+def describe(file: str, error: dict, prefix: tuple = (), allowed: list[str] | None = None) -> str:
+    """One pydantic error as one line for people."""
+    where = f"{file}: {_path(prefix + tuple(error['loc']))}"
+    kind, msg = error["type"], error["msg"]
+    if kind == "extra_forbidden":
+        hint = f"; expected one of: {', '.join(allowed)}" if allowed else ""
+        return f"{where}: unknown key{hint}"
+    if kind == "missing":
+        return f"{where}: required key is missing"
+    for lead, repl in (("Input should be ", "expected "), ("Value error, ", ""), ("Assertion failed, ", "")):
+        if msg.startswith(lead):
+            msg = repl + msg[len(lead):]
+    return f"{where}: {msg}, got {_got(error.get('input'))}"
+
+
+def _errors(file: str, error: ValidationError, model: type[BaseModel], prefix: tuple = ()) -> list[str]:
+    allowed = sorted(model.model_fields)
+    return [describe(file, e, prefix, allowed) for e in error.errors(include_url=False)]
+
+
+def _resolve(file: str, registry: Registry, kind: str, ref: PluginRef, where: tuple,
+             context: dict, problems: list[str], warnings: list[str]) -> Resolved | None:
+    entry = registry.get(kind, ref.name)
+    label = _path(where)
+    if entry is None:
+        known = ", ".join(registry.names(kind)) or "none installed"
+        problems.append(f"{file}: {label}.name: expected one of {known}, got {_got(ref.name)} "
+                        f"(`issv list` shows what is installed)")
+        return None
+    reason = entry.availability()
+    if reason is not None:
+        line = f"{file}: {label}: {kind[:-1]} {ref.name!r} is not available here: {reason}"
+        (warnings if kind == "effects" else problems).append(line)
+        if kind == "effects":
+            return None
+    try:
+        options = entry.cls.Options.model_validate(ref.options, context=context)
+    except ValidationError as error:
+        problems.extend(_errors(file, error, entry.cls.Options, where))
+        return None
+    return Resolved(ref, entry.cls, options, label)
+
+
+def parse(text: str, file: str, base_dir: Path, registry: Registry | None = None) -> Profile:
+    """Validate a profile's text; raise ProfileError with every problem found."""
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise ProfileError([f"{file}: not valid TOML: {error}"]) from None
+    try:
+        model = ProfileModel.model_validate(raw)
+    except ValidationError as error:
+        raise ProfileError(_errors(file, error, ProfileModel)) from None
+    registry = registry or default_registry()
+    context = {"base_dir": base_dir}
+    problems: list[str] = []
+    warnings: list[str] = []
+    backend = _resolve(file, registry, "backends", model.backend, ("backend",), context, problems, warnings)
+    source = None
+    if backend is None or backend.cls.needs_source:
+        source = _resolve(file, registry, "sources", model.source, ("source",), context, problems, warnings)
+    effects = []
+    for i, ref in enumerate(model.effects):
+        if ref.enabled:
+            resolved = _resolve(file, registry, "effects", ref, ("effects", i), context, problems, warnings)
+            if resolved is not None:
+                effects.append(resolved)
+    if problems:
+        raise ProfileError(problems)
+    return Profile(Path(file), model, source, backend, effects, warnings)
+
+
+def load(path: str | Path, registry: Registry | None = None) -> Profile:
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ProfileError([f"{path}: no such profile (profiles/ holds the ready-to-run ones)"]) from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise ProfileError([f"{path}: cannot read the profile: {error}"]) from None
+    return parse(text, str(path), path.resolve().parent, registry)

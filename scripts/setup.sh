@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs everything issv needs on a fresh Debian machine (as root): system packages, then issv
+# itself (editable, with the test extra) into the active python3. Safe to run again: it skips
+# what is already there.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# Mesa EGL (headless rendering on llvmpipe), Pure Data + liblo-tools (OSC receivers in tests),
+# OpenNI2 (.oni files), ROS 1 (ROS interop), iproute2 (network namespaces in tests).
+DEBS=(libegl1 libegl-mesa0 libgl1-mesa-dri puredata-core liblo-tools libopenni2-0
+      ros-core python3-rospy python3-sensor-msgs python3-geometry-msgs iproute2)
+missing=()
+for pkg in "${DEBS[@]}"; do
+  dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing Debian packages: ${missing[*]}"
+  apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+echo "setup: installing issv (pip install -e '.[test]')"
+python3 -m pip install -q --disable-pip-version-check -e '.[test]' 2>&1 | grep -v "Running pip as the 'root' user" || true
+command -v pyenv >/dev/null && pyenv rehash || true
+command -v issv >/dev/null || { echo "setup: issv is not on PATH after install" >&2; exit 1; }
+echo "setup: done ($(issv --version))"

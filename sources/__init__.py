@@ -1,0 +1,1 @@
+"""Built-in depth sources (plugins: they use only the public host API)."""

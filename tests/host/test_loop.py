@@ -1,0 +1,107 @@
+"""The frame loop's promises: gestures exactly once and in order, newest frame wins,
+one failing effect is disabled and the others lose nothing, stop() is always called."""
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+from host import Backend, DepthFrame, Effect, Frame, Gesture, GestureState, GestureType, Intrinsics, Stage
+from host.loop import EffectSlot, Limits, Show
+
+K = Intrinsics(100, 100, 8, 6)
+
+
+class BurstBackend(Backend):
+    """Makes `n` frames as fast as it can, each carrying two gesture events."""
+
+    name = "burst"
+    needs_source = False
+
+    def __init__(self, n: int, period: float = 0.0):
+        super().__init__(None)
+        self.n, self.period, self.i, self.stopped = n, period, 0, False
+
+    def update(self):
+        if self.i >= self.n:
+            return None
+        time.sleep(self.period)
+        self.i += 1
+        depth = DepthFrame(np.zeros((12, 16), np.uint16), K, self.i, self.i / 30)
+        gestures = tuple(Gesture(GestureType.SWIPE_LEFT, GestureState.COMPLETE, (0, 0, 1), hand_id=k, timestamp=self.i)
+                         for k in range(2))
+        return Frame(self.i, depth.capture_time, depth, (), gestures, self.name)
+
+    def stop(self):
+        self.stopped = True
+
+
+class Recorder(Effect):
+    name = "recorder"
+
+    def __init__(self, frame_delay=0.0, fail_on_frame=None):
+        super().__init__()
+        self.frame_delay, self.fail_on_frame = frame_delay, fail_on_frame
+        self.events, self.frames = [], []
+
+    def on_gesture(self, g):
+        self.events.append((g.timestamp, g.hand_id))
+
+    def on_frame(self, frame):
+        if self.fail_on_frame is not None and frame.seq >= self.fail_on_frame:
+            raise RuntimeError("boom")
+        self.frames.append(frame.seq)
+        time.sleep(self.frame_delay)
+
+
+def run_show(backend, effects, fps=60.0, limits=Limits()):
+    slots = [EffectSlot(e, f"effects[{i}]") for i, e in enumerate(effects)]
+    show = Show(backend, slots, Stage((64, 48), fps, backend.name), limits=limits)
+    return show, show.run()
+
+
+def test_slow_show_loop_drops_frames_but_never_gestures():
+    fast, slow = Recorder(), Recorder(frame_delay=0.02)
+    backend = BurstBackend(200)
+    show, metrics = run_show(backend, [slow, fast], fps=200)
+    want = [(i, k) for i in range(1, 201) for k in range(2)]
+    assert slow.events == want and fast.events == want
+    assert metrics.frames == 200 and metrics.dropped > 0
+    assert metrics.dropped + len(slow.frames) == 200
+    assert slow.frames == sorted(slow.frames) and slow.frames[-1] == 200
+    assert metrics.gestures_by_name == {"swipe_left": 400}
+    assert backend.stopped
+
+
+def test_a_raising_effect_is_disabled_and_the_others_lose_nothing(capsys):
+    broken, healthy = Recorder(fail_on_frame=3), Recorder()
+    show, metrics = run_show(BurstBackend(30, period=0.005), [broken, healthy], fps=500)
+    err = capsys.readouterr().err
+    assert err.count("raised RuntimeError in on_frame: boom") == 1
+    assert "effect 'recorder' (effects[0])" in err and "the show goes on" in err
+    assert not show.effects[0].enabled and show.effects[1].enabled
+    assert broken.frames == [1, 2] or broken.frames[-1] < 3
+    assert len(healthy.events) == 60 and healthy.frames[-1] == 30
+
+
+def test_frame_limit_stops_the_show_and_calls_stop():
+    backend = BurstBackend(10_000)
+    _, metrics = run_show(backend, [Recorder()], limits=Limits(frames=25))
+    assert metrics.frames == 25 and backend.stopped
+
+
+def test_sigterm_stops_a_running_show_cleanly(tmp_path, clip):
+    profile = tmp_path / "p.toml"
+    profile.write_text(f'backend = "truth"\n[source]\nname = "clip"\npath = "{clip}"\nloop = true\n'
+                       '[[effects]]\nname = "console"\n[output]\nmode = "headless"\n')
+    metrics = tmp_path / "m.json"
+    proc = subprocess.Popen([sys.executable, "-m", "host", "run", str(profile), "--metrics-json", str(metrics)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(2.5)
+    proc.send_signal(signal.SIGTERM)
+    out, err = proc.communicate(timeout=20)
+    assert proc.returncode == 0, err
+    assert "Traceback" not in err
+    assert metrics.exists() and '"frames"' in metrics.read_text()
