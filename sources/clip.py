@@ -11,7 +11,7 @@ from host import DepthFrame, Intrinsics, Side, Source, Truth
 from host.errors import UserError
 from host.options import ProfilePath
 
-BODY_JOINTS = ("head", "spine", "left_shoulder", "right_shoulder")
+BODY_JOINTS = ("head", "torso", "left_shoulder", "right_shoulder")  # the clip's spine joint is the torso
 
 
 class ClipOptions(BaseModel):

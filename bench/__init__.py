@@ -1,0 +1,1 @@
+"""Benchmarks: `python -m bench.NAME [--json]` prints a table (or one JSON object of figures)."""
