@@ -45,6 +45,8 @@ class ConsoleEffect(Effect):
             return
         seen = {}
         for hand in frame.hands:
+            if hand.state in (HandState.LOST, HandState.ABSENT):
+                continue
             seen[hand.id] = hand.state
             if hand.id not in self._known:
                 self._hand_line(frame, "new", hand.id, hand.side.value, hand.position)
@@ -57,5 +59,5 @@ class ConsoleEffect(Effect):
             self._print(json.dumps({"t": round(frame.timestamp, 4), "type": f"hand_{what}", "hand": hand_id,
                                     "side": side, "position": position and [round(c, 1) for c in position]}))
             return
-        where = f"at ({position[0]:.0f}, {position[1]:.0f}, {position[2]:.0f}) mm" if position else ""
-        self._print(f"{frame.timestamp:8.2f}s  hand {hand_id} {what:<4} {side:<7} {where}")
+        where = f"{side:<7} at ({position[0]:.0f}, {position[1]:.0f}, {position[2]:.0f}) mm" if position else ""
+        self._print(f"{frame.timestamp:8.2f}s  hand {hand_id} {what:<4} {where}".rstrip())

@@ -16,11 +16,12 @@ from host.model import (
     TruthGesture,
     Vec3,
 )
+from host.callbacks import SimpleOpenNIEffect
 
 __version__ = "0.1.0"
 
 __all__ = [
     "Backend", "CANONICAL_GESTURES", "DepthFrame", "Effect", "Frame", "Gesture", "GestureState",
     "GestureType", "Hand", "HandState", "Intrinsics", "NoOptions", "Plugin", "PluginUnavailable",
-    "Side", "Source", "Stage", "Truth", "TruthGesture", "Vec3", "hookimpl", "__version__",
+    "SimpleOpenNIEffect", "Side", "Source", "Stage", "Truth", "TruthGesture", "Vec3", "hookimpl", "__version__",
 ]

@@ -12,6 +12,7 @@ from typing import Any, ClassVar
 from pydantic import BaseModel, ConfigDict
 
 from host.model import DepthFrame, Frame, Gesture, Intrinsics, Vec3
+from host.render import calibration
 
 
 class NoOptions(BaseModel):
@@ -122,7 +123,8 @@ class Stage:
     """What an effect gets in `setup`: the output it draws for and the host's state.
 
     `ctx` is the moderngl context (None when the show renders nothing); `size` is the output size
-    in pixels; `metrics` is the live Metrics object (read-only for effects).
+    in pixels; `metrics` is the live Metrics object (read-only for effects); `calibration` the
+    profile's camera-to-stage homography (None: the depth image is stretched over the output).
     """
 
     size: tuple[int, int]
@@ -131,6 +133,15 @@ class Stage:
     ctx: Any = None
     metrics: Any = None
     extra: dict[str, Any] = field(default_factory=dict)
+    calibration: Any = None
+
+    def to_stage(self, position: Vec3, depth: DepthFrame) -> tuple[float, float]:
+        """Where a camera point (mm) seen in `depth` lands on the output, in pixels from the top-left."""
+        return calibration.project(position, depth, self.size, self.calibration)
+
+    def depth_to_stage(self, depth: DepthFrame) -> Any:
+        """The 3x3 homography from `depth`'s pixels to output pixels (to draw depth images in place)."""
+        return calibration.depth_to_stage_matrix((depth.width, depth.height), self.size, self.calibration)
 
 
 class Effect(Plugin):
@@ -138,10 +149,12 @@ class Effect(Plugin):
 
     Gesture events arrive through `on_gesture` exactly once each, in order; `on_frame` gets the
     newest frame (hands may skip frames, gestures never do). Render effects set `renders = True`
-    and draw their layer in `render`.
+    and draw their layer in `render`; those that place every vertex through `target.to_clip`
+    set `keystone_aware = True` and the keystone costs no extra pass.
     """
 
     renders: ClassVar[bool] = False
+    keystone_aware: ClassVar[bool] = False
 
     def setup(self, stage: Stage) -> None:
         self.stage = stage

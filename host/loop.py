@@ -210,13 +210,30 @@ class Show:
         finally:
             self.backend.stop()
             for slot in self.effects:
-                try:
-                    slot.effect.close()
-                except Exception as error:
-                    print(f"issv: effect {slot.effect.name!r} ({slot.where}) raised in close: {error}", file=sys.stderr)
+                self._close(slot.effect, slot.where)
             if self.renderer is not None:
                 self.renderer.close()
         return self.metrics
+
+    def _close(self, effect: Effect, where: str) -> None:
+        try:
+            effect.close()
+        except Exception as error:
+            print(f"issv: effect {effect.name!r} ({where}) raised in close: {error}", file=sys.stderr)
+
+    def replace_effects(self, slots: list[EffectSlot]) -> None:
+        """Live reload: swap in a new effect stack between two ticks (call it on the show thread,
+        e.g. from the status hook). New effects come set up; effects left out are closed."""
+        kept = {id(slot.effect) for slot in slots}
+        old = self.effects
+        for slot in old:
+            if id(slot.effect) not in kept:
+                self._close(slot.effect, slot.where)
+        # Position i keeps its slot object: a renderer keys per-effect state (its layer) on it.
+        for i, (was, now) in enumerate(zip(old, slots)):
+            vars(was).update(vars(now))
+            slots[i] = was
+        self.effects = slots
 
     def _show_loop(self) -> None:
         """Tick at the output rate, and at once when the sensor publishes (low latency), but never

@@ -19,6 +19,10 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
+# ROS 1 from Debian installs into Debian's python3 dist-packages; a .pth file naming that folder
+# lets our python3 (same 3.11 minor version) import rospy. Appended to sys.path: pip packages win.
+echo /usr/lib/python3/dist-packages > "$(python3 -c 'import site; print(site.getsitepackages()[0])')/issv-debian-ros.pth"
+
 echo "setup: installing issv (pip install -e '.[test]')"
 python3 -m pip install -q --disable-pip-version-check -e '.[test]' 2>&1 | grep -v "Running pip as the 'root' user" || true
 command -v pyenv >/dev/null && pyenv rehash || true

@@ -1,8 +1,16 @@
 """Registers the built-in sources, exactly as a third-party plugin would."""
 from host import hookimpl
 from sources.clip import ClipSource
+from sources.fakenect import FakenectSource
+from sources.oni import OniSource
+from sources.recording import RecordingSource
+from sources.synthetic import SyntheticSource
 
 
 @hookimpl
 def register_sources(register):
     register(ClipSource)
+    register(FakenectSource)
+    register(OniSource)
+    register(RecordingSource)
+    register(SyntheticSource)

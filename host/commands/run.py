@@ -12,7 +12,9 @@ from host.assemble import make_backend, make_effects
 from host.contracts import Stage
 from host.errors import UserError
 from host.loop import Limits, Show
+from host.metrics import Metrics
 from host.plugins import default_manager
+from host.reload import Reloader
 from host.status import StatusLine, summary
 
 HELP = "run a show from a profile (windowed, fullscreen, or --headless)"
@@ -38,6 +40,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", metavar="FILE.mp4", help="also write the show to a video file")
     p.add_argument("--snapshot", metavar="FILE.png", help="save the last rendered frame as PNG")
     p.add_argument("--fast", action="store_true", help="do not pace recorded sources: as fast as possible")
+    p.add_argument("--no-reload", action="store_true",
+                   help="do not watch the profile and effect sources for edits (live reload is on by default)")
 
 
 def needs_renderer(prof: profiles.Profile, args: argparse.Namespace) -> bool:
@@ -68,16 +72,35 @@ def main(args: argparse.Namespace) -> int:
         from host.render import make_renderer  # moderngl is imported only when a show draws
         renderer = make_renderer(output, stage)
     status = StatusLine()
+    reloader = None if args.no_reload else Reloader(prof)
+
+    def between_ticks(show: Show) -> None:
+        if reloader is not None:
+            reloader(show)
+        status(show)
+
     show = Show(backend, effects, stage, pm=default_manager(), limits=Limits(args.frames, args.seconds),
-                renderer=renderer, status=status)
+                renderer=renderer, status=between_ticks)
+    metrics = play(show, status)
+    if args.metrics_json:
+        Path(args.metrics_json).write_text(json.dumps(metrics.to_json(), indent=2) + "\n")
+    check_sensor(show)
+    return 0
+
+
+def play(show: Show, status: StatusLine) -> Metrics:
+    """Run a show: Ctrl-C and SIGTERM stop it cleanly, a live status, the summary at exit.
+    Shared with `issv record`."""
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, lambda *_: show.request_stop())
     with status:
         metrics = show.run()
     summary(metrics)
-    if args.metrics_json:
-        Path(args.metrics_json).write_text(json.dumps(metrics.to_json(), indent=2) + "\n")
+    return metrics
+
+
+def check_sensor(show: Show) -> None:
+    """A backend that failed mid-show ends the command with one clear line."""
     if show.sensor_error is not None:
         err = show.sensor_error
-        raise UserError(f"issv: backend {backend.name!r} failed: {type(err).__name__}: {err}")
-    return 0
+        raise UserError(f"issv: backend {show.backend.name!r} failed: {type(err).__name__}: {err}")

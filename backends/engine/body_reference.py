@@ -1,0 +1,96 @@
+"""Where the performer's body is, so that the recogniser judges hand motion relative to it.
+
+With a skeleton (torso, head) the reference is given. Without one it is estimated from the
+hands alone: the body's motion is the motion that all hands share (walking moves both hands the
+same way; a swipe moves one), followed no faster than a body can accelerate (a push of both
+hands is far quicker than a step), and its height comes from the lowest hand, which usually hangs at
+rest. No per-clip statistics: everything is a running estimate with physical constants.
+"""
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+
+from backends.engine.rules import GestureRules
+
+
+@dataclass(frozen=True)
+class BodyFrame:
+    """The body at one instant: torso position (mm), the heights of the shoulder line and head,
+    and the torso's vertical speed (mm/s)."""
+
+    torso: np.ndarray
+    shoulder_y: float
+    head_y: float
+    vy: float = 0.0
+
+
+def _shared(velocities: list[np.ndarray]) -> np.ndarray:
+    """Per axis: the smallest velocity if all hands agree in sign, else 0 (what they all share)."""
+    v = np.array(velocities)
+    same = np.all(v > 0, axis=0) | np.all(v < 0, axis=0)
+    return np.where(same, np.sign(v[0]) * np.min(np.abs(v), axis=0), 0.0)
+
+
+class BodyReference:
+    """Fed each frame's hands and optional body points; says where the body is."""
+
+    def __init__(self, rules: GestureRules) -> None:
+        self.rules = rules
+        self._t: float | None = None
+        self._last: dict[int, np.ndarray] = {}
+        self._offset = np.zeros(3)  # estimated body displacement since the start (no skeleton)
+        self._velocity = np.zeros(3)
+        self._recent: deque[tuple[float, float, float, float]] = deque()  # t, mean x, lowest y, furthest z
+        self._heights: deque[tuple[float, float]] = deque()  # t, torso y: its vertical speed
+
+    def update(self, t: float, hands: Mapping[int, np.ndarray], body: Mapping[str, tuple]) -> BodyFrame:
+        r = self.rules
+        estimate = self._estimate(t, hands)
+        torso, head = body.get("torso"), body.get("head")
+        if torso is None and head is None:  # estimated: its vertical speed is unknown, say steady
+            torso = estimate if estimate is not None else np.zeros(3)
+            head_y = float(torso[1]) + r.head_above_torso_mm
+            return BodyFrame(torso, head_y - r.shoulder_below_head_mm, head_y, 0.0)
+        if torso is not None:
+            torso = np.asarray(torso, dtype=float)
+            head_y = float(head[1]) if head is not None else float(torso[1]) + r.head_above_torso_mm
+        else:
+            head_y = float(head[1])
+            torso = np.asarray(head, dtype=float) - np.array([0.0, r.head_above_torso_mm, 0.0])
+        return BodyFrame(torso, head_y - r.shoulder_below_head_mm, head_y, self._vertical_speed(t, float(torso[1])))
+
+    def _vertical_speed(self, t: float, y: float) -> float:
+        self._heights.append((t, y))
+        while len(self._heights) > 2 and t - self._heights[1][0] >= self.rules.body_speed_window_s:
+            self._heights.popleft()
+        t0, y0 = self._heights[0]
+        return (y - y0) / (t - t0) if t > t0 else 0.0
+
+    def _estimate(self, t: float, hands: Mapping[int, np.ndarray]) -> np.ndarray | None:
+        r = self.rules
+        if self._t is not None and t > self._t:
+            dt = t - self._t
+            moved = [(p - self._last[i]) / dt for i, p in hands.items() if i in self._last]
+            shared = _shared(moved) if len(moved) >= 2 else np.zeros(3)
+            shared[1] = 0.0  # raising both arms is common; rising or sinking bodies are rare: height comes from rest
+            # a body accelerates slowly; hands pushing together do not drag it along
+            step = r.body_max_acceleration_mm_s2 * dt
+            self._velocity = self._velocity + np.clip(shared - self._velocity, -step, step)
+            self._offset = self._offset + self._velocity * dt
+        self._t = t
+        self._last = dict(hands)
+        if hands:
+            rel = np.array([p - self._offset for p in hands.values()])
+            self._recent.append((t, float(rel[:, 0].mean()), float(rel[:, 1].min()), float(rel[:, 2].max())))
+        while self._recent and t - self._recent[0][0] > r.body_window_s:
+            self._recent.popleft()
+        if not self._recent:
+            return None
+        rec = np.array(self._recent)
+        return self._offset + np.array([rec[:, 1].mean(),
+                                        rec[:, 2].min() + r.rest_below_torso_mm,
+                                        rec[:, 3].max() + r.rest_in_front_of_torso_mm])

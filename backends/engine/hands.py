@@ -1,0 +1,77 @@
+"""Hand candidates: the ends of the limbs that stick out of the body frame.
+
+A cell of the user is "extended" when it is in front of the trunk (push, click), beside it
+(swipe, arms spread) or above the shoulders away from the head (wave, hand raise), and above the
+hips (legs are not hands). Each connected patch of extended cells is one arm; its hand is the
+centre of the cells within a palm's reach of the point farthest from the base of the neck (the
+middle of the shoulder line: unlike the nearer shoulder, it keeps the hand the far end of an arm
+that crosses the body). All in mm.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from backends.engine.trunk import Body
+from backends.engine.segmentation import Segment
+
+
+class HandOptions(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    front_mm: float = Field(120, gt=0, description="in front of the trunk's surface by more than this: extended")
+    beside_mm: float = Field(275, gt=0, description="farther than this sideways from the spine: extended")
+    above_shoulder_mm: float = Field(150, description="higher than this above the shoulder line and clear of the head")
+    head_clearance_mm: float = Field(190, gt=0, description="cells this close to the head joint are head, not hand")
+    palm_radius_mm: float = Field(120, gt=0, description="cells this close to the fingertips make up the hand")
+    min_area_m2: float = Field(0.003, gt=0, description="smaller patches are noise, not a hand")
+    hand_depth_mm: float = Field(25, ge=0, description="the hand joint lies this far behind the hand's surface")
+    max_hands: int = Field(2, ge=1)
+
+
+@dataclass(frozen=True, eq=False)
+class Candidate:
+    position: np.ndarray  # mm
+    reach: float  # mm from the base of the neck: how extended the arm is
+    at_border: bool  # the hand touches the edge of the image
+
+
+class HandDetector:
+    def __init__(self, options: HandOptions) -> None:
+        self.options = options
+
+    def detect(self, seg: Segment, body: Body) -> list[Candidate]:
+        o, g = self.options, seg.grid
+        tx, _, _ = body.torso
+        dx = g.x - tx
+        front = body.surface_z - g.z
+        head_clear = np.hypot(g.x - body.head[0], g.y - body.head[1]) > o.head_clearance_mm
+        extended = ((front > o.front_mm)
+                    | ((np.abs(dx) > o.beside_mm) & ~body.core)
+                    | ((g.y > body.shoulder_y + o.above_shoulder_mm) & head_clear))
+        cand = seg.mask & extended & (g.y > body.hip_y)
+        if not cand.any():
+            return []
+        count, labels, stats, _ = cv2.connectedComponentsWithStats(cand.view(np.uint8), connectivity=8)
+        neck = np.array([tx, body.shoulder_y, body.torso[2]])
+        h, w = g.shape
+        found: list[Candidate] = []
+        for label in range(1, count):
+            ys, xs = np.nonzero(labels == label)
+            pts = np.stack([g.x[ys, xs], g.y[ys, xs], g.z[ys, xs]], axis=1).astype(np.float64)
+            if seg.grid.pixel_area_mm2[ys, xs].sum() < o.min_area_m2 * 1e6:
+                continue
+            reach = np.linalg.norm(pts - neck, axis=1)
+            tip = int(np.argmax(reach))
+            palm = np.linalg.norm(pts - pts[tip], axis=1) <= o.palm_radius_mm
+            position = pts[palm].mean(axis=0) + (0.0, 0.0, o.hand_depth_mm)
+            at_border = bool(np.any((ys[palm] == 0) | (ys[palm] == h - 1) | (xs[palm] == 0) | (xs[palm] == w - 1)))
+            found.append(Candidate(position, float(reach[tip]), at_border))
+        found.sort(key=lambda c: -c.reach)
+        kept: list[Candidate] = []
+        for c in found:  # two patches of one arm (cut by the head's clearance) are one hand
+            if all(np.linalg.norm(c.position - k.position) > 2 * o.palm_radius_mm for k in kept):
+                kept.append(c)
+        return kept[: o.max_hands]

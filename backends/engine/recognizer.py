@@ -1,0 +1,355 @@
+"""The gesture recogniser of the open engine: hand positions in, gesture events out.
+
+It runs on any stream of hand positions in millimetres (the depth tracker, a skeleton, a
+recorded trajectory), once per frame. Motion is judged relative to the body (the torso and head
+when given, else estimated from the hands, see body_reference.py), cut into strokes (strokes.py) and
+matched against the rules (rules.py):
+
+- SWIPE_LEFT/RIGHT/UP/DOWN: one fast stroke, dominant along its axis, with the hand raised from
+  rest. It completes `swipe_confirm_s` after it ends unless a comparable stroke the other way
+  follows: then it was a wind-up (the larger stroke wins) or part of a wave (neither is a swipe).
+- WAVE: several direction reversals of horizontal strokes, each large and quick enough, with
+  the hand near or above the shoulders.
+- CLICK (PUSH): a fast stroke towards the camera, completed when the hand stops or comes back.
+- HAND_RAISE: the hand held nearly still above the head.
+
+Each gesture is reported IN_PROGRESS (at most once per attempt) when it is recognisably under
+way (a swipe: once its stroke has ended and waits for confirmation; a wave: one reversal
+before it completes; a click: while the hand moves forward fast enough; a raise: half way through the hold)
+and COMPLETE once; after a COMPLETE the hand has a refractory period.
+"""
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from backends.engine.body_reference import BodyReference
+from backends.engine.rules import GestureRules
+from backends.engine.strokes import X, Y, Z, AxisStrokes, Sample, Stroke
+from host import CANONICAL_GESTURES, Gesture, GestureState, GestureType, Hand, HandState, Side, Vec3
+
+#: The dictionaries of the engine's modes: canonical name -> the native type it is reported as.
+OPENISS_DICTIONARY: dict[str, GestureType] = {n: GestureType.from_canonical(n) for n in CANONICAL_GESTURES}
+NITE_DICTIONARY: dict[str, GestureType] = {
+    "wave": GestureType.WAVE, "click": GestureType.CLICK, "hand_raise": GestureType.HAND_RAISE}
+NUITRACK_DICTIONARY: dict[str, GestureType] = {
+    "wave": GestureType.WAVING, "click": GestureType.PUSH,
+    "swipe_left": GestureType.SWIPE_LEFT, "swipe_right": GestureType.SWIPE_RIGHT,
+    "swipe_up": GestureType.SWIPE_UP, "swipe_down": GestureType.SWIPE_DOWN}
+
+_GONE = (HandState.LOST, HandState.ABSENT)
+_CHAIN_GAP_S = 0.3  # strokes further apart than this do not belong to one oscillation
+_HISTORY_S = 3.0  # how much of each hand's past is kept (longer than any gesture)
+
+
+def _margin(value: float, threshold: float) -> float:
+    """0 at the threshold, 1 at twice the threshold (or more)."""
+    return float(np.clip(value / threshold - 1.0, 0.0, 1.0)) if threshold > 0 else 1.0
+
+
+def _confidence(*margins: float) -> float:
+    """A gesture that just passes its thresholds gets 0.5; one that passes them twice over, 1."""
+    return 0.5 + 0.5 * float(np.mean(margins))
+
+
+@dataclass
+class _Pending:
+    """A swipe waiting `swipe_confirm_s` to see whether it was only a wind-up."""
+
+    stroke: Stroke
+
+
+@dataclass
+class _HandTrack:
+    """Everything the recogniser remembers about one hand."""
+
+    rules: GestureRules
+    last_seen: float = 0.0
+    samples: deque = field(default_factory=deque)
+    refractory_until: float = float("-inf")
+    pending: dict[int, _Pending] = field(default_factory=dict)
+    chains: dict[int, list[Stroke]] = field(default_factory=lambda: {X: [], Y: []})
+    announced: set = field(default_factory=set)  # IN_PROGRESS already sent, keyed by attempt
+    wave_done_at: float = float("-inf")  # start time of the chain whose wave was completed
+    raised_since: float | None = None  # when the hand last went up above the head
+    hold: Sample | None = None  # where the hand has been held still since
+    raised_done: bool = False
+
+    def __post_init__(self) -> None:
+        r = self.rules
+        self.strokes = {a: AxisStrokes(a, r.stroke_hysteresis_mm, r.stroke_stop_s) for a in (X, Y, Z)}
+
+    def sample(self, t: float, p: np.ndarray, shoulder: float, head: float, world: Vec3, body_vy: float) -> Sample:
+        """The new sample with its velocity over the speed window, kept in a short history."""
+        window = self.rules.speed_window_s
+        ref = None
+        for q in reversed(self.samples):
+            ref = q
+            if t - q.t >= window:
+                break
+        v = (p - ref.p) / (t - ref.t) if ref is not None and t > ref.t else np.zeros(3)
+        s = Sample(t, p, v, shoulder, head, world, body_vy)
+        self.samples.append(s)
+        while self.samples and t - self.samples[0].t > _HISTORY_S:
+            self.samples.popleft()
+        return s
+
+
+class GestureRecognizer:
+    """Feed `update()` once per frame; it returns the gesture events of that frame."""
+
+    def __init__(self, rules: GestureRules | None = None,
+                 dictionary: Mapping[str, GestureType] | None = None) -> None:
+        self.rules = rules if rules is not None else GestureRules()
+        self.dictionary = dict(OPENISS_DICTIONARY if dictionary is None else dictionary)
+        unknown = set(self.dictionary) - set(CANONICAL_GESTURES)
+        if unknown:
+            raise ValueError(f"unknown gesture names {sorted(unknown)}; expected some of {', '.join(CANONICAL_GESTURES)}")
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget every hand and the body (a new performance)."""
+        self._body = BodyReference(self.rules)
+        self._tracks: dict[int, _HandTrack] = {}
+
+    def update(self, t: float, hands: Sequence[Hand], body: Mapping[str, Vec3] | None = None,
+               mirrored: bool = True) -> list[Gesture]:
+        """One frame: `t` seconds, hands in world mm, optional body points ("torso", "head").
+
+        `mirrored` says whether +x is the performer's right (a mirrored image) or left; swipe
+        directions are reported from the performer's point of view.
+        """
+        live = [h for h in hands if h.state not in _GONE]
+        for h in hands:
+            if h.state in _GONE:
+                self._tracks.pop(h.id, None)
+        for hid in [i for i, tr in self._tracks.items() if t - tr.last_seen > self.rules.forget_after_s]:
+            del self._tracks[hid]
+        frame = self._body.update(t, {h.id: np.asarray(h.position, float) for h in live}, body or {})
+        events: list[Gesture] = []
+        for h in live:
+            track = self._tracks.get(h.id)
+            if track is None:
+                track = self._tracks[h.id] = _HandTrack(self.rules)
+            track.last_seen = t
+            s = track.sample(t, np.asarray(h.position, float) - frame.torso,
+                             frame.shoulder_y - frame.torso[1], frame.head_y - frame.torso[1], h.position, frame.vy)
+            _Hand(self, track, h, t, mirrored, events, self._tracks).step(s)
+        return events
+
+
+class _Hand:
+    """The rules applied to one hand for one frame (a short-lived helper, so the state stays in _HandTrack)."""
+
+    def __init__(self, rec: GestureRecognizer, track: _HandTrack, hand: Hand, t: float,
+                 mirrored: bool, events: list[Gesture], tracks: Mapping[int, _HandTrack]) -> None:
+        self.rec, self.r, self.tr, self.hand, self.t = rec, rec.rules, track, hand, t
+        self.mirrored, self.events = mirrored, events
+        self.others = [other for other in tracks.values() if other is not track]
+
+    # --- events -------------------------------------------------------------------------------
+    def emit(self, name: str, state: GestureState, confidence: float, at: Sample) -> bool:
+        """Report a gesture; a COMPLETE inside the refractory period is swallowed (returns False)."""
+        native = self.rec.dictionary.get(name)
+        if native is None:
+            return False
+        if state is GestureState.COMPLETE:
+            if self.t < self.tr.refractory_until:
+                return False
+            self.tr.refractory_until = self.t + self.r.refractory_s
+            self.tr.pending.clear()
+        self.events.append(Gesture(native, state, tuple(float(c) for c in at.world), self.hand.id,
+                                   self.hand.side if isinstance(self.hand.side, Side) else Side(self.hand.side),
+                                   float(np.clip(confidence, 0.0, 1.0)), self.t))
+        return True
+
+    def announce(self, name: str, key: object, confidence: float, at: Sample) -> None:
+        """IN_PROGRESS, once per attempt (`key` names the attempt, e.g. the stroke's start time)."""
+        if (name, key) not in self.tr.announced and self.t >= self.tr.refractory_until:
+            self.tr.announced.add((name, key))
+            if len(self.tr.announced) > 64:
+                self.tr.announced = {(name, key)}
+            self.emit(name, GestureState.IN_PROGRESS, confidence, at)
+
+    # --- one frame ----------------------------------------------------------------------------
+    def step(self, s: Sample) -> None:
+        for axis in (X, Y, Z):
+            done = self.tr.strokes[axis].update(s)
+            if done is not None:
+                reversed_ = self.tr.strokes[axis].direction != 0
+                if axis == Z:
+                    self.click(done)
+                else:
+                    self.stroke_ended(done, reversed_)
+        for axis in (X, Y):
+            self.resolve_pending(axis)
+        self.click_under_way()
+        self.hand_raise(s)
+
+    # --- swipes and waves ---------------------------------------------------------------------
+    def swipe_name(self, stroke: Stroke) -> str:
+        if stroke.axis == Y:
+            return "swipe_up" if stroke.direction > 0 else "swipe_down"
+        towards_right = (stroke.direction > 0) == self.mirrored
+        return "swipe_right" if towards_right else "swipe_left"
+
+    def swipe_like(self, stroke: Stroke) -> bool:
+        """Fast and dominant along its axis, with the hand up from rest and the body steady
+        (travel checked apart); judged on the stroke's core."""
+        r = self.r
+        core = stroke.core(r.stroke_core_speed_fraction)
+        # a vertical stroke is judged whole: one that starts or ends at rest is the arm lifting or dropping
+        lowest = (stroke if stroke.axis == Y else core).lowest
+        return (core.peak_speed >= r.swipe_min_peak_speed_mm_s and core.dominance >= r.swipe_dominance
+                and lowest >= r.active_min_height_mm and core.duration <= r.swipe_max_duration_s
+                and core.body_speed <= r.steady_body_max_vertical_speed_mm_s)
+
+    def is_swipe(self, stroke: Stroke) -> bool:
+        core = stroke.core(self.r.stroke_core_speed_fraction)
+        return (core.travel >= self.r.swipe_min_travel_mm and self.swipe_like(stroke)
+                and not self.mirrored_by_other_hand(core))
+
+    def mirrored_by_other_hand(self, stroke: Stroke) -> bool:
+        """Did another hand make the opposite motion at the same time (a clap, arms spreading)?
+        Swipes and waves are made by one hand."""
+        for other in self.others:
+            during = [q for q in other.samples if stroke.start.t <= q.t <= stroke.end.t]
+            if len(during) >= 2:
+                against = max(-stroke.direction * (q.p[stroke.axis] - during[0].p[stroke.axis]) for q in during)
+                if against >= self.r.swipe_comparable_ratio * stroke.travel:
+                    return True
+        return False
+
+    def comparable(self, follower: Stroke, first: Stroke) -> bool:
+        """A stroke the other way, as fast, dominant and nearly as long: `first` was no swipe on its own."""
+        return (follower.direction == -first.direction and self.swipe_like(follower)
+                and follower.travel >= self.r.swipe_comparable_ratio * first.travel)
+
+    def swipe_confidence(self, stroke: Stroke) -> float:
+        r = self.r
+        stroke = stroke.core(r.stroke_core_speed_fraction)
+        return _confidence(_margin(stroke.travel, r.swipe_min_travel_mm),
+                           _margin(stroke.peak_speed, r.swipe_min_peak_speed_mm_s),
+                           _margin(stroke.dominance, r.swipe_dominance))
+
+    def stroke_ended(self, stroke: Stroke, reversed_: bool) -> None:
+        chain = self.tr.chains[stroke.axis]
+        if chain and not (chain[-1].direction == -stroke.direction
+                          and stroke.start.t - chain[-1].end.t <= _CHAIN_GAP_S):
+            chain.clear()
+        if (stroke.travel >= self.r.wave_min_amplitude_mm and stroke.dominance >= 1.0
+                and stroke.lowest >= self.r.active_min_height_mm):
+            chain.append(stroke)
+        else:
+            chain.clear()
+        pending = self.tr.pending.pop(stroke.axis, None)
+        if pending is not None:
+            if self.comparable(stroke, pending.stroke):
+                pass  # a wind-up followed by the real swipe, or a back-and-forth: the first is no swipe
+            else:
+                self.emit(self.swipe_name(pending.stroke), GestureState.COMPLETE,
+                          self.swipe_confidence(pending.stroke), pending.stroke.end)
+        place = len(chain) if chain and chain[-1] is stroke else 1
+        if place <= 2 and self.is_swipe(stroke) and (pending is None or stroke.travel > pending.stroke.travel
+                                                     or not self.comparable(stroke, pending.stroke)):
+            self.tr.pending[stroke.axis] = _Pending(stroke)
+            self.announce(self.swipe_name(stroke), stroke.start.t, self.swipe_confidence(stroke), stroke.end)
+        if stroke.axis == X:
+            self.wave(chain, reversed_)
+
+    def resolve_pending(self, axis: int) -> None:
+        """Complete a swipe once it is clear that no comparable stroke the other way follows it."""
+        pending = self.tr.pending.get(axis)
+        if pending is None or self.t < pending.stroke.end.t + self.r.swipe_confirm_s:
+            return
+        current = self.tr.strokes[axis].current()
+        if current is not None and current.direction == -pending.stroke.direction and self.swipe_like(current):
+            return  # a fast stroke the other way is under way: wait for it to end
+        del self.tr.pending[axis]
+        self.emit(self.swipe_name(pending.stroke), GestureState.COMPLETE,
+                  self.swipe_confidence(pending.stroke), pending.stroke.end)
+
+    def wave_stroke(self, stroke: Stroke) -> bool:
+        r = self.r
+        return (stroke.duration <= r.wave_max_stroke_s and stroke.travel >= r.wave_min_amplitude_mm
+                and stroke.lowest >= stroke.start.shoulder - r.wave_max_below_shoulder_mm
+                and not self.mirrored_by_other_hand(stroke))
+
+    def wave(self, chain: list[Stroke], reversed_: bool) -> None:
+        run = 0
+        for stroke in reversed(chain):
+            if not self.wave_stroke(stroke):
+                break
+            run += 1
+        if run == 0:
+            return
+        first = chain[-run]
+        reversals = run - 1 + int(reversed_)
+        if first.start.t <= self.tr.wave_done_at:
+            return
+        amplitude = float(np.median([s.travel for s in chain[-run:]]))
+        confidence = _confidence(_margin(amplitude, self.r.wave_min_amplitude_mm),
+                                 min(1.0, reversals / (2 * self.r.wave_min_reversals)))
+        if reversals >= self.r.wave_min_reversals:
+            if self.emit("wave", GestureState.COMPLETE, confidence, chain[-1].end):
+                self.tr.wave_done_at = first.start.t
+        elif reversals >= max(1, self.r.wave_min_reversals - 1):  # one reversal is also a wind-up and its swipe
+            self.announce("wave", first.start.t, confidence, chain[-1].end)
+
+    # --- click --------------------------------------------------------------------------------
+    def click_like(self, stroke: Stroke) -> bool:
+        r = self.r
+        core = stroke.core(r.stroke_core_speed_fraction)
+        return (stroke.direction < 0 and core.travel >= r.click_min_travel_mm
+                and core.peak_speed >= r.click_min_peak_speed_mm_s and core.dominance >= r.click_dominance
+                and r.click_min_duration_s <= stroke.duration and core.duration <= r.click_max_duration_s
+                and core.lowest >= r.active_min_height_mm
+                and core.body_speed <= r.steady_body_max_vertical_speed_mm_s)
+
+    def click_confidence(self, stroke: Stroke) -> float:
+        r = self.r
+        stroke = stroke.core(r.stroke_core_speed_fraction)
+        return _confidence(_margin(stroke.travel, r.click_min_travel_mm),
+                           _margin(stroke.peak_speed, r.click_min_peak_speed_mm_s),
+                           _margin(stroke.dominance, r.click_dominance))
+
+    def halted(self, stroke: Stroke) -> bool:
+        """Did the hand nearly stop at the stroke's end (a push stops or comes back; a hand sweeping
+        down past its furthest point does not)?"""
+        after = [q for q in self.tr.samples if stroke.end.t <= q.t <= stroke.end.t + self.r.speed_window_s + 1e-6]
+        return min(float(np.linalg.norm(q.v)) for q in after) <= self.r.click_halt_max_speed_mm_s
+
+    def click(self, stroke: Stroke) -> None:
+        if self.click_like(stroke) and self.halted(stroke):
+            self.emit("click", GestureState.COMPLETE, self.click_confidence(stroke), stroke.end)
+
+    def click_under_way(self) -> None:
+        current = self.tr.strokes[Z].current()
+        if current is not None and len(current.samples) > 1 and self.click_like(current):
+            self.announce("click", current.start.t, self.click_confidence(current), current.end)
+
+    # --- hand raise ---------------------------------------------------------------------------
+    def hand_raise(self, s: Sample) -> None:
+        r, tr = self.r, self.tr
+        above = float(s.p[Y]) - (s.head + r.raise_min_above_head_mm)
+        if above < 0:
+            tr.hold = None
+            if above < -r.stroke_hysteresis_mm:  # lowered for real: the next raise counts again
+                tr.raised_since, tr.raised_done = None, False
+            return
+        if tr.raised_since is None:
+            tr.raised_since = s.t
+        if tr.hold is None or float(np.linalg.norm(s.p - tr.hold.p)) > r.raise_hold_radius_mm:
+            tr.hold = s  # moving: the hold starts again from here
+        held = s.t - tr.hold.t
+        if tr.raised_done:
+            return
+        confidence = _confidence(_margin(above + r.raise_min_above_head_mm, r.raise_min_above_head_mm),
+                                 min(1.0, held / (2 * r.raise_hold_s)))
+        if held >= r.raise_hold_s:
+            tr.raised_done = self.emit("hand_raise", GestureState.COMPLETE, confidence, s)
+        elif held >= r.raise_hold_s / 2:
+            self.announce("hand_raise", tr.raised_since, confidence, s)

@@ -1,0 +1,107 @@
+"""Every threshold of the gesture recogniser, in millimetres and seconds, in one place.
+
+A profile overrides any of them through its backend options, e.g.
+`[backend.options] gestures = {swipe_min_travel_mm = 300}`. The defaults describe an adult
+performer moving deliberately; they are physical and relative to the body (the torso and head
+reference points), never derived from one performer's recordings or normalised per clip.
+Positions are camera coordinates (x towards the image's right, y up, z away from the camera);
+"forward" means towards the camera.
+"""
+from __future__ import annotations
+
+from pydantic import BaseModel, ConfigDict, Field
+
+
+class GestureRules(BaseModel):
+    """Thresholds of the recogniser. Distances in mm, durations in s, speeds in mm/s."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    # --- segmentation of motion into strokes (runs of motion along one axis) -------------------
+    stroke_hysteresis_mm: float = Field(
+        40.0, gt=0, description="a stroke reverses only after the hand comes back this far from its extreme: "
+        "above the jitter of skeleton and depth hand trackers (10-20 mm), below a wave's swing")
+    stroke_stop_s: float = Field(
+        0.12, gt=0, description="a stroke ends when its extreme has not advanced for this long (the hand stopped)")
+    speed_window_s: float = Field(
+        0.06, gt=0, description="speeds are measured over this interval (two frames at 30 Hz)")
+    stroke_core_speed_fraction: float = Field(
+        0.25, ge=0, lt=1, description="a stroke is judged on its core, the samples moving faster than this "
+        "share of its peak speed: the slow start of an arc and the settling at its end are not the gesture")
+    steady_body_max_vertical_speed_mm_s: float = Field(
+        350.0, gt=0, description="no swipe or click while the torso rises or sinks faster than this "
+        "(squatting, sitting down, lunging: the arms move for balance)")
+    body_speed_window_s: float = Field(
+        0.2, gt=0, description="the torso's speed is measured over this interval (longer than for hands: "
+        "a skeleton's torso jitters by several mm per frame, a squat lasts a second)")
+    active_min_height_mm: float = Field(
+        -150.0, description="a hand lower than this relative to the torso (the spine joint) hangs at rest: "
+        "swipes and clicks must start and end above it, so lifting the arm from rest or dropping it "
+        "back is never a gesture (a hanging hand is 300-400 mm below the torso)")
+
+    # --- swipes -------------------------------------------------------------------------------
+    swipe_min_travel_mm: float = Field(
+        350.0, gt=0, description="net travel along the swipe direction, relative to the body")
+    swipe_max_duration_s: float = Field(1.0, gt=0, description="a slower stroke is a reach, not a swipe")
+    swipe_min_peak_speed_mm_s: float = Field(
+        1000.0, gt=0, description="peak speed along the swipe direction (a deliberate swipe peaks at 1.5-3 m/s)")
+    swipe_dominance: float = Field(
+        1.5, ge=1, description="travel along the swipe direction over the largest travel along the other axes: "
+        "diagonal wind-ups and returns stay below it")
+    swipe_confirm_s: float = Field(
+        0.25, ge=0, description="after a stroke ends, how long to watch whether a comparable stroke the other "
+        "way follows (then the first was a wind-up, or both belong to a wave); this is the swipe's latency")
+    swipe_comparable_ratio: float = Field(
+        0.4, gt=0, le=1, description="a following opposite stroke with at least this share of the first's "
+        "travel, fast and dominant like a swipe, makes the first a wind-up (or part of a wave)")
+
+    # --- wave ---------------------------------------------------------------------------------
+    wave_min_amplitude_mm: float = Field(
+        100.0, gt=0, description="horizontal swing of each side-to-side stroke of a wave")
+    wave_max_stroke_s: float = Field(0.8, gt=0, description="a slower side-to-side stroke is not waving")
+    wave_min_reversals: int = Field(3, ge=1, description="direction reversals needed: 3 = right-left-right-left")
+    wave_max_below_shoulder_mm: float = Field(
+        50.0, description="the waving hand stays no lower than this below the shoulders "
+        "(a clap or a hand rubbing in front of the chest is not a wave)")
+
+    # --- click / push -------------------------------------------------------------------------
+    click_min_travel_mm: float = Field(200.0, gt=0, description="forward travel towards the camera")
+    click_min_duration_s: float = Field(
+        0.15, ge=0, description="a forward jump quicker than this is a tracking glitch, not a push")
+    click_max_duration_s: float = Field(0.6, gt=0, description="a slower forward motion is a reach")
+    click_min_peak_speed_mm_s: float = Field(700.0, gt=0, description="peak forward speed")
+    click_halt_max_speed_mm_s: float = Field(
+        1000.0, gt=0, description="at its furthest point the hand nearly halts (stops or comes back): "
+        "its speed there falls below this (an arm uncurling down past it does not)")
+    click_dominance: float = Field(
+        1.5, ge=1, description="forward travel over the largest sideways or vertical travel")
+
+    # --- hand raise ---------------------------------------------------------------------------
+    raise_min_above_head_mm: float = Field(
+        50.0, description="the hand is held at least this far above the head's centre")
+    raise_hold_s: float = Field(0.5, gt=0, description="and held there, nearly still, for this long")
+    raise_hold_radius_mm: float = Field(
+        80.0, gt=0, description="'held': the hand stays within this distance of where the hold began "
+        "(tracker jitter and sway are smaller; the swings of a wave are larger)")
+
+    # --- per hand -----------------------------------------------------------------------------
+    refractory_s: float = Field(
+        0.6, ge=0, description="after a COMPLETE gesture the same hand completes no other for this long "
+        "(the return of a swipe or a push is not a gesture)")
+    forget_after_s: float = Field(
+        0.5, gt=0, description="a hand not reported for this long is forgotten (a LOST hand at once)")
+
+    # --- the body, when the input has no skeleton ------------------------------------------------
+    head_above_torso_mm: float = Field(
+        520.0, gt=0, description="head centre above the torso (spine) joint, used when only the torso is known")
+    shoulder_below_head_mm: float = Field(250.0, gt=0, description="shoulder line below the head's centre")
+    rest_below_torso_mm: float = Field(
+        320.0, gt=0, description="without a skeleton: a hand hanging at rest is this far below the torso, "
+        "so the torso is estimated from the lowest hand over the last `body_window_s`")
+    rest_in_front_of_torso_mm: float = Field(
+        80.0, description="without a skeleton: a hanging hand is this far in front of the torso")
+    body_max_acceleration_mm_s2: float = Field(
+        2000.0, gt=0, description="without a skeleton: the body's estimated motion changes speed no faster "
+        "than this (starting to walk takes 1-2 m/s^2; hands in a push reach 10-20 m/s^2)")
+    body_window_s: float = Field(
+        3.0, gt=0, description="without a skeleton: how far back the resting hand is looked for")

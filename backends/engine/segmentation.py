@@ -1,0 +1,210 @@
+"""User segmentation from one depth image: no learned background, so it works from the first frame.
+
+On a coarse grid (about 160 columns whatever the sensor's resolution) the depth becomes world
+millimetres; a floor plane found by RANSAC among near-horizontal planes is removed; depth jumps
+cut the image into surfaces; the nearest person-sized surface (judged in mm and m^2, not pixels)
+is the user, and small surfaces within arm's reach in front of it (a forearm pointed at the camera
+is cut off from the body by its own depth edge) join it. Clips whose background is already removed
+are simply the easy case: no floor is found and the user is the only surface.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from host import DepthFrame
+
+
+class SegmentationOptions(BaseModel):
+    """Physical limits of what counts as a person (mm, m^2) and of the sensor's useful range."""
+
+    model_config = ConfigDict(extra="forbid")
+    grid_width: int = Field(160, ge=40, description="columns of the internal grid (positions stay full-resolution mm)")
+    near_mm: float = Field(300, ge=0, description="readings nearer than this are noise")
+    far_mm: float = Field(8000, gt=0, description="readings farther than this are ignored")
+    edge_mm: float = Field(60, gt=0, description="a depth jump larger than edge_mm + edge_ratio * z separates surfaces")
+    edge_ratio: float = Field(0.03, ge=0)
+    floor: bool = Field(True, description="look for a floor plane and remove it")
+    floor_tolerance_mm: float = Field(60, gt=0, description="points this close to the floor plane are floor")
+    floor_max_tilt_deg: float = Field(40, gt=0, lt=90, description="how far the floor normal may lean from the camera's up")
+    floor_min_span_mm: float = Field(1000, gt=0, description="a floor is at least this wide (a seated lap is not)")
+    min_user_area_m2: float = Field(0.08, gt=0, description="frontal area of the smallest user (a head and shoulders)")
+    min_user_height_mm: float = Field(450, gt=0)
+    max_user_width_mm: float = Field(2300, gt=0, description="arms spread; a wall is wider")
+    max_user_depth_spread_mm: float = Field(600, gt=0, description="std of depth over the user; a side wall is deeper")
+    reach_mm: float = Field(1000, gt=0, description="a detached surface this close in front of the user is part of them")
+    rim_depth_mm: float = Field(700, gt=0, description="cut cells next to the user within this depth of them are theirs")
+    min_part_area_m2: float = Field(0.002, gt=0, description="smaller detached surfaces are noise")
+
+
+@dataclass(frozen=True)
+class Grid:
+    """The coarse grid of one frame: depth and world coordinates in mm (0 where no reading)."""
+
+    step: int
+    z: np.ndarray  # (h, w) float32 mm, 0 = no reading
+    x: np.ndarray
+    y: np.ndarray
+    pixel_area_mm2: np.ndarray  # frontal area one grid cell covers at its depth
+    cell_x: float  # width of a grid cell in mm per mm of depth (step / fx)
+    cell_y: float  # height of a grid cell in mm per mm of depth (step / fy)
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.z.shape  # type: ignore[return-value]
+
+
+@dataclass(frozen=True)
+class Segment:
+    """The user found in one frame."""
+
+    mask: np.ndarray  # (h, w) bool on the grid
+    grid: Grid
+
+
+class Segmenter:
+    """Finds the user in each frame; remembers only the floor plane and the last user (to stay on them)."""
+
+    def __init__(self, options: SegmentationOptions) -> None:
+        self.options = options
+        self._rays: dict[tuple, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+        self._floor: np.ndarray | None = None  # (nx, ny, nz, d): n.p + d = height above the floor
+        self._last_mask: np.ndarray | None = None
+        self._rng = np.random.default_rng(0)
+
+    def grid(self, depth: DepthFrame) -> Grid:
+        o = self.options
+        step = max(1, round(depth.width / o.grid_width))
+        z = depth.data[::step, ::step].astype(np.float32)
+        z[(z < o.near_mm) | (z > o.far_mm)] = 0
+        gx, gy, cell = self._ray_grid(depth, step, z.shape)
+        i = depth.intrinsics
+        return Grid(step, z, z * gx, z * gy, (z * z) * cell, step / i.fx, step / i.fy)
+
+    def _ray_grid(self, depth: DepthFrame, step: int, shape: tuple[int, int]):
+        """Per grid cell: x/z and y/z of its ray, and its solid angle; cached per geometry."""
+        key = (shape, step, depth.intrinsics)
+        if key not in self._rays:
+            v, u = np.mgrid[0:shape[0], 0:shape[1]].astype(np.float32) * step
+            gx, gy, _ = depth.intrinsics.depth_to_world(u, v, 1.0)
+            cell = np.float32(step * step / (depth.intrinsics.fx * depth.intrinsics.fy))
+            self._rays[key] = (gx.astype(np.float32), gy.astype(np.float32), cell)
+        return self._rays[key]
+
+    def segment(self, depth: DepthFrame) -> Segment | None:
+        g = self.grid(depth)
+        valid = g.z > 0
+        if self.options.floor:
+            valid &= ~self._floor_mask(g, valid)
+        labels, stats = self._surfaces(g, valid)
+        mask = self._pick_user(g, labels, stats)
+        if mask is not None:
+            mask = self._with_rim(g, mask, valid & (labels == 0))
+        self._last_mask = mask
+        return Segment(mask, g) if mask is not None else None
+
+    # -- floor -------------------------------------------------------------------------------
+    def _floor_mask(self, g: Grid, valid: np.ndarray) -> np.ndarray:
+        plane = self._find_floor(g, valid)
+        if plane is None:
+            return np.zeros_like(valid)
+        self._floor = plane
+        height = g.x * plane[0] + g.y * plane[1] + g.z * plane[2] + plane[3]
+        return valid & (height < self.options.floor_tolerance_mm + 0.01 * g.z)
+
+    def _find_floor(self, g: Grid, valid: np.ndarray, samples: int = 600, hypotheses: int = 48) -> np.ndarray | None:
+        """RANSAC among near-horizontal planes with most points above them; the last floor competes too."""
+        o = self.options
+        lower = valid.copy()
+        lower[: valid.shape[0] // 3] = False  # the floor shows in the lower part of a level camera's view
+        idx = np.flatnonzero(lower)
+        if idx.size < 50:
+            return None
+        idx = self._rng.choice(idx, size=min(samples, idx.size), replace=False)
+        pts = np.stack([g.x.flat[idx], g.y.flat[idx], g.z.flat[idx]], axis=1).astype(np.float64)
+        tri = pts[self._rng.integers(0, len(pts), size=(hypotheses, 3))]
+        n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+        norm = np.linalg.norm(n, axis=1)
+        ok = norm > 1e-6
+        n = n[ok] / norm[ok, None]
+        n *= np.sign(n[:, 1:2]) + (n[:, 1:2] == 0)  # normals point up
+        d = -np.einsum("ij,ij->i", n, tri[ok, 0])
+        planes = np.concatenate([n, d[:, None]], axis=1)
+        if self._floor is not None:
+            planes = np.vstack([planes, self._floor])
+        planes = planes[planes[:, 1] >= np.cos(np.radians(o.floor_max_tilt_deg))]
+        if len(planes) == 0:
+            return None
+        heights = pts @ planes[:, :3].T + planes[:, 3]
+        inliers = np.abs(heights) < o.floor_tolerance_mm
+        below = heights < -o.floor_tolerance_mm
+        score = inliers.sum(axis=0) - 4 * below.sum(axis=0)  # a floor has (almost) nothing under it
+        best = int(np.argmax(score))
+        support = pts[inliers[:, best]]
+        if len(support) < max(30, 0.1 * len(pts)):
+            return None
+        span = np.percentile(support[:, 0], 95) - np.percentile(support[:, 0], 5)
+        return planes[best] if span >= o.floor_min_span_mm else None
+
+    # -- surfaces and the user ---------------------------------------------------------------
+    def _surfaces(self, g: Grid, valid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Connected surfaces: 4-neighbours whose depths differ by less than the edge threshold.
+
+        Only the far side of a jump is cut, so the near surface (the user) keeps its outline.
+        """
+        z = np.where(valid, g.z, 0)
+        thr = self.options.edge_mm + self.options.edge_ratio * z
+        keep = valid.copy()
+        dx = z[:, 1:] - z[:, :-1]
+        dy = z[1:, :] - z[:-1, :]
+        both_x = valid[:, 1:] & valid[:, :-1]
+        both_y = valid[1:, :] & valid[:-1, :]
+        keep[:, 1:] &= ~(both_x & (dx > thr[:, :-1]))
+        keep[:, :-1] &= ~(both_x & (-dx > thr[:, 1:]))
+        keep[1:, :] &= ~(both_y & (dy > thr[:-1, :]))
+        keep[:-1, :] &= ~(both_y & (-dy > thr[1:, :]))
+        _, labels, stats, _ = cv2.connectedComponentsWithStats(keep.view(np.uint8), connectivity=4)
+        return labels, stats
+
+    def _with_rim(self, g: Grid, mask: np.ndarray, cut: np.ndarray) -> np.ndarray:
+        """Give back the user's cells that were cut as the far side of a jump onto the user itself
+        (the chest behind an arm held across it); the far background stays out."""
+        near = cv2.dilate(mask.view(np.uint8), np.ones((3, 3), np.uint8)).view(bool)
+        depth = float(np.median(g.z[mask]))
+        return mask | (near & cut & (np.abs(g.z - depth) < self.options.rim_depth_mm))
+
+    def _pick_user(self, g: Grid, labels: np.ndarray, stats: np.ndarray) -> np.ndarray | None:
+        o = self.options
+        count = len(stats)
+        if count <= 1:
+            return None
+        flat = labels.ravel()
+        area = np.bincount(flat, weights=g.pixel_area_mm2.ravel(), minlength=count)
+        area[0] = 0
+        n = np.maximum(np.bincount(flat, minlength=count), 1)
+        mean = [np.bincount(flat, weights=c.ravel(), minlength=count) / n for c in (g.x, g.y, g.z)]
+        zz = np.bincount(flat, weights=(g.z.astype(np.float64) ** 2).ravel(), minlength=count) / n
+        spread = np.sqrt(np.maximum(zz - mean[2] ** 2, 0))
+        ext_w = stats[:, cv2.CC_STAT_WIDTH] * g.cell_x * mean[2]  # bounding box in mm at the mean depth
+        ext_h = stats[:, cv2.CC_STAT_HEIGHT] * g.cell_y * mean[2]
+        person = ((area >= o.min_user_area_m2 * 1e6) & (ext_h >= o.min_user_height_mm)
+                  & (ext_w <= o.max_user_width_mm) & (spread <= o.max_user_depth_spread_mm))
+        person[0] = False
+        if not person.any():
+            return None
+        rank = mean[2].copy()
+        if self._last_mask is not None and self._last_mask.shape == labels.shape:
+            overlap = np.bincount(flat[self._last_mask.ravel()], minlength=count) / n
+            rank -= 2000.0 * (overlap > 0.3)  # stay on the same person while they are there
+        rank[~person] = np.inf
+        user = int(np.argmin(rank))
+        centre = np.array([m[user] for m in mean])
+        offsets = np.stack(mean, axis=1) - centre
+        parts = ((area >= o.min_part_area_m2 * 1e6) & ~person
+                 & (np.linalg.norm(offsets, axis=1) <= o.reach_mm) & (offsets[:, 2] < 150))
+        parts[0] = False
+        parts[user] = True
+        return parts[labels]

@@ -1,0 +1,173 @@
+"""The depth hand tracker of the open engine: segmentation -> body frame -> hand candidates -> tracks.
+
+Tracks keep their id for as long as the hand is seen again within `lost_timeout_s` (an unseen
+hand is left out of the frame rather than reported where it was), go NEW -> TRACKING -> LOST, and report TOUCHING_FOV while the hand
+touches the edge of the image. Left and right are the performer's, fixed when a track is born
+(a right hand that swipes across the body stays the right hand).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from itertools import permutations
+
+import cv2
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from backends.engine.hands import Candidate, HandDetector, HandOptions
+from backends.engine.segmentation import SegmentationOptions, Segmenter
+from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
+from backends.engine.trunk import BodyEstimator, BodyOptions
+from host import DepthFrame, Hand, HandState, Side, Vec3
+
+
+class TrackerOptions(BaseModel):
+    """Everything the tracker does, in mm and seconds."""
+
+    model_config = ConfigDict(extra="forbid")
+    lost_timeout_s: float = Field(0.5, ge=0, description="a hand unseen this long is LOST; seen again sooner, it keeps its id")
+    max_speed_mm_s: float = Field(5000, gt=0, description="fastest plausible hand: gates matching across frames")
+    match_slack_mm: float = Field(150, ge=0, description="matching distance allowed on top of max speed * dt")
+    predict_s: float = Field(0.0, ge=0, le=0.2, description=(
+        "report hands this far ahead along their velocity: compensates a show's output latency "
+        "(projector, renderer) so effects land on the hands; 0 reports where the hand was seen"))
+    smoothing: SmoothingOptions = SmoothingOptions()
+    body_smoothing: SmoothingOptions = SmoothingOptions(min_cutoff_hz=0.8, beta=0.002)
+    segmentation: SegmentationOptions = SegmentationOptions()
+    body: BodyOptions = BodyOptions()
+    hands: HandOptions = HandOptions()
+
+
+@dataclass(frozen=True)
+class TrackResult:
+    """One frame's tracking: hands (performer's sides), body reference points in mm, the user's mask."""
+
+    hands: tuple[Hand, ...]
+    body: dict[str, Vec3]
+    mask: np.ndarray | None = None  # (h, w) bool on the internal grid; full_mask() for the image's size
+    shape: tuple[int, int] = (0, 0)  # the depth image's (height, width)
+
+    def full_mask(self) -> np.ndarray | None:
+        """The user's silhouette at the depth image's resolution (for silhouette effects)."""
+        if self.mask is None:
+            return None
+        h, w = self.shape
+        return cv2.resize(self.mask.view(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST).view(bool)
+
+
+@dataclass(eq=False)
+class _Track:
+    id: int
+    side: Side
+    filter: OneEuroFilter
+    position: np.ndarray
+    born: float
+    seen: float
+    at_border: bool = False
+    reported: bool = False
+
+
+def _vec(a: np.ndarray) -> Vec3:
+    return (float(a[0]), float(a[1]), float(a[2]))
+
+
+class HandTracker:
+    def __init__(self, options: TrackerOptions | None = None) -> None:
+        self.options = options or TrackerOptions()
+        self.segmenter = Segmenter(self.options.segmentation)
+        self.body_estimator = BodyEstimator(self.options.body)
+        self.detector = HandDetector(self.options.hands)
+        self._tracks: list[_Track] = []
+        self._next_id = 1
+        self._body_filters = {k: OneEuroFilter(self.options.body_smoothing) for k in ("torso", "head")}
+
+    def process(self, depth: DepthFrame) -> TrackResult:
+        t = depth.timestamp
+        seg = self.segmenter.segment(depth)
+        body = self.body_estimator.estimate(seg) if seg is not None else None
+        if body is None:
+            self.body_estimator.reset()
+            hands = self._update_tracks(t, [], None, depth.mirrored)
+            return TrackResult(hands, {}, None, (depth.height, depth.width))
+        candidates = self.detector.detect(seg, body)
+        hands = self._update_tracks(t, candidates, body.torso, depth.mirrored)
+        points = {"torso": _vec(self._body_filters["torso"](t, body.torso)),
+                  "head": _vec(self._body_filters["head"](t, body.head))}
+        return TrackResult(hands, points, seg.mask, (depth.height, depth.width))
+
+    # -- tracks ------------------------------------------------------------------------------
+    def _update_tracks(self, t: float, found: list[Candidate], torso: np.ndarray | None,
+                       mirrored: bool) -> tuple[Hand, ...]:
+        matched = self._match(t, found)
+        out: list[Hand] = []
+        for track, cand in matched.items():
+            track.seen, track.at_border = t, cand.at_border
+            track.position = track.filter(t, cand.position) + self.options.predict_s * track.filter.velocity
+        free = [c for c in found if c not in matched.values()]
+        for cand in free:
+            if len(self._tracks) >= self.options.hands.max_hands:
+                stale = [tr for tr in self._tracks if tr not in matched]
+                if not stale:
+                    break
+                self._tracks.remove(min(stale, key=lambda tr: tr.seen))
+            self._tracks.append(self._birth(t, cand, torso, mirrored))
+        for track in list(self._tracks):
+            unseen = t - track.seen
+            if unseen > self.options.lost_timeout_s:
+                self._tracks.remove(track)
+                out.append(self._hand(track, HandState.LOST, 0.0))
+                continue
+            if unseen > 0:
+                continue  # out of sight for now: the id waits for the hand, nothing stale is reported
+            if not track.reported:
+                state = HandState.NEW
+            elif track.at_border:
+                state = HandState.TOUCHING_FOV
+            else:
+                state = HandState.TRACKING
+            track.reported = True
+            out.append(self._hand(track, state, 1.0))
+        return tuple(sorted(out, key=lambda h: h.id))
+
+    def _match(self, t: float, found: list[Candidate]) -> dict[_Track, Candidate]:
+        """The assignment of candidates to live tracks with the smallest total distance, within gates."""
+        tracks = self._tracks
+        if not tracks or not found:
+            return {}
+        o = self.options
+        best: dict = {}
+        best_cost = None
+        small, large = (tracks, found) if len(tracks) <= len(found) else (found, tracks)
+        for perm in permutations(range(len(large)), len(small)):
+            pairs = {}
+            cost = 0.0
+            for i, j in enumerate(perm):
+                tr, c = (small[i], large[j]) if small is tracks else (large[j], small[i])
+                d = float(np.linalg.norm(tr.position - c.position))
+                if d <= o.match_slack_mm + o.max_speed_mm_s * (t - tr.seen):
+                    pairs[tr] = c
+                    cost += d
+                else:
+                    cost += 1e6  # an unmatched pair costs more than any match
+            if best_cost is None or cost < best_cost:
+                best, best_cost = pairs, cost
+        return best
+
+    def _birth(self, t: float, cand: Candidate, torso: np.ndarray | None, mirrored: bool) -> _Track:
+        others = {tr.side for tr in self._tracks}
+        if len(others) == 1 and Side.UNKNOWN not in others:
+            side = Side.LEFT if others == {Side.RIGHT} else Side.RIGHT  # two hands, one of each
+        elif torso is None:
+            side = Side.UNKNOWN
+        else:
+            image_right = cand.position[0] >= torso[0]
+            side = Side.RIGHT if image_right == mirrored else Side.LEFT
+        track = _Track(self._next_id, side, OneEuroFilter(self.options.smoothing), cand.position, t, t,
+                       cand.at_border)
+        track.position = track.filter(t, cand.position)
+        self._next_id += 1
+        return track
+
+    @staticmethod
+    def _hand(track: _Track, state: HandState, confidence: float) -> Hand:
+        return Hand(track.id, state, _vec(track.position), track.side, 1, round(confidence, 3))

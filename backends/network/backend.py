@@ -1,0 +1,151 @@
+"""`network`: frames from a remote `issv serve`, so effects cannot tell they came over a wire.
+
+A frame is rebuilt from the publisher's hands message (one per publisher frame, sent reliably) and
+the gesture events that came before it on the same ordered channel; its depth is the newest image
+received. A frame waits at most `depth_wait_ms` for its own depth image, and never once the next
+frame's hands are in: depth is newest-wins, hands and gestures are never held back for long.
+"""
+from __future__ import annotations
+
+import sys
+import threading
+import time
+from collections import deque
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from backends.network import wire
+from backends.network.publisher import endpoints
+from host import Backend, DepthFrame, Frame, Gesture, PluginUnavailable
+
+POLL_MS = 100
+
+
+class NetworkOptions(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    connect: str = "tcp://127.0.0.1:5555"  # with transport = "ros": the master URI (default $ROS_MASTER_URI)
+    transport: Literal["zmq", "ros"] = "zmq"
+    depth: bool = True
+    depth_wait_ms: float = Field(40.0, ge=0, le=1000)
+    end_with_publisher: bool = False
+    namespace: str = "/openiss"
+    ros_depth: Literal["frame", "image"] = "frame"
+
+    @model_validator(mode="after")
+    def _address(self) -> "NetworkOptions":
+        if self.transport == "zmq":
+            endpoints(self.connect)  # raises with the expected form
+        return self
+
+
+class NetworkBackend(Backend):
+    """Subscribes to `connect` (ZeroMQ, or a ROS master with transport = "ros")."""
+
+    name = "network"
+    Options = NetworkOptions
+    needs_source = False
+
+    @classmethod
+    def availability(cls) -> str | None:
+        try:
+            import zmq  # noqa: F401
+        except ImportError:
+            return "pyzmq is not installed: pip install pyzmq"
+        return None
+
+    def init(self) -> None:
+        o = self.options
+        if o.transport == "ros":
+            from backends.network.ros import RosSubscriber
+            self.transport = RosSubscriber(o.connect, o.namespace, depth=o.depth, depth_topic=o.ros_depth)
+        else:
+            from backends.network.subscriber import ZmqSubscriber
+            self.transport = ZmqSubscriber(o.connect, depth=o.depth)
+        self.accounting = self.transport.accounting
+        self._hands: deque[tuple[float, wire.HandsMsg]] = deque()  # (arrival, message)
+        self._gestures: list[Gesture] = []
+        self._depth: DepthFrame | None = None
+        self._depth_seq = -1
+        self._depth_session: int | None = None
+        self._seq = 0
+        self._backend = ""
+        self._stopping = threading.Event()
+        self._busy = threading.Lock()
+
+    def update(self) -> Frame | None:
+        with self._busy:
+            while not self._stopping.is_set():
+                frame = self._ready()
+                if frame is not None:
+                    return frame
+                if self.accounting.ended and self.options.end_with_publisher:
+                    return self._flush()
+                for msg in self.transport.poll(self._wait_ms()):
+                    self._take(msg)
+            return None
+
+    def _take(self, msg: wire.Message) -> None:
+        if isinstance(msg, wire.DepthMsg):
+            if msg.frame_seq > self._depth_seq or msg.header.session != self._depth_session:
+                self._depth, self._depth_seq = msg.depth, msg.frame_seq
+                self._depth_session = msg.header.session
+        elif isinstance(msg, wire.GestureMsg):
+            self._gestures.append(msg.gesture)
+        elif isinstance(msg, wire.HandsMsg):
+            self._hands.append((time.monotonic(), msg))
+
+    def _wait_ms(self) -> float:
+        if not self._hands:
+            return POLL_MS
+        arrival = self._hands[0][0]
+        return max(0.0, min(POLL_MS, (arrival + self.options.depth_wait_ms / 1000 - time.monotonic()) * 1000))
+
+    def _ready(self) -> Frame | None:
+        """The oldest waiting frame, if its depth is in, it waited long enough, or a newer one came."""
+        if not self._hands:
+            return None
+        arrival, head = self._hands[0]
+        has_depth = (not head.depth or not self.options.depth
+                     or (self._depth_seq >= head.frame_seq and self._depth_session == head.header.session))
+        waited = time.monotonic() - arrival >= self.options.depth_wait_ms / 1000
+        if not (has_depth or waited or len(self._hands) > 1):
+            return None
+        self._hands.popleft()
+        self._backend = head.backend
+        return self._frame(head.header.capture_time, head.hands)
+
+    def _frame(self, capture_time: float, hands) -> Frame:
+        gestures, self._gestures = tuple(self._gestures), []
+        self._seq += 1
+        return Frame(self._seq, capture_time, self._depth, tuple(hands) if self.tracking_hands else (),
+                     gestures if self.detecting_gestures else (), self._backend)
+
+    def _flush(self) -> Frame | None:
+        """The publisher ended: deliver what is still waiting, then end the stream."""
+        if self._hands:
+            _, head = self._hands.popleft()
+            return self._frame(head.header.capture_time, head.hands)
+        if self._gestures:
+            return self._frame(time.time(), ())
+        return None
+
+    def stats(self) -> dict:
+        """Loss, latency and malformed messages per stream (also printed at stop)."""
+        return self.accounting.to_json()
+
+    def world_to_depth(self, position):
+        if self._depth is None:
+            raise PluginUnavailable("backend 'network' has received no depth image yet to project into")
+        return self._depth.world_to_depth(position)
+
+    def stop(self) -> None:
+        super().stop()
+        transport = getattr(self, "transport", None)
+        if transport is None:
+            return
+        self._stopping.set()
+        with self._busy:
+            transport.close()
+            self.transport = None
+        print(f"issv: network: {self.accounting.summary()}", file=sys.stderr, flush=True)

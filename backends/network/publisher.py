@@ -1,0 +1,223 @@
+"""The sending side of `issv serve`: frames in, ZeroMQ messages out (format: wire.py).
+
+Two sockets, two paths (STYLE.md: gestures are events, not samples):
+- events (hands and gesture events, heartbeats) on an XPUB socket at ADDR with a high-water mark
+  far above any backlog a show can build, so nothing is dropped while a subscriber is connected;
+  XPUB tells us when a subscriber joins, and we greet it with a heartbeat at once;
+- depth on a PUB socket at ADDR's port + 1 with CONFLATE (one message per subscriber queue: the
+  newest wins) and a small kernel send buffer, so a slow link drops old images instead of
+  queueing them (queueing is what made the thesis' ROS depth late and lost).
+
+Depth is cropped, downscaled and compressed on a worker thread of its own so the sensor thread
+never waits for it; if the worker is still busy when a newer frame comes, the older one is skipped
+(counted, reported in heartbeats).
+"""
+from __future__ import annotations
+
+import os
+import re
+import threading
+import time
+from dataclasses import dataclass, replace
+
+import zmq
+
+from backends.network import wire
+from host import DepthFrame, Frame
+from host.errors import UserError
+
+HEARTBEAT_S = 0.5
+EVENT_HWM = 1_000_000  # about 9 hours of hands at 30 Hz: in practice never reached
+DEPTH_SNDBUF = 256 * 1024
+
+_TCP = re.compile(r"^tcp://(?P<host>[^\s]+):(?P<port>\d{1,5})$")
+
+
+def endpoints(addr: str) -> tuple[str, str]:
+    """ADDR -> (events endpoint, depth endpoint): depth goes to the next port."""
+    m = _TCP.match(addr)
+    if m is None or not 0 < int(m["port"]) < 65535:
+        raise ValueError(f"expected tcp://HOST:PORT such as tcp://127.0.0.1:5555, got {addr!r}")
+    return addr, f"tcp://{m['host']}:{int(m['port']) + 1}"
+
+
+@dataclass(frozen=True)
+class DepthOptions:
+    """How depth goes on the wire: all of it losslessly by default; less of it on slow links."""
+
+    enabled: bool = True
+    codec: str = wire.DEFAULT_CODEC
+    downscale: int = 1  # keep every Nth pixel of every Nth row (values stay exact millimetres)
+    crop: tuple[int, int, int, int] | None = None  # x, y, width, height in source pixels
+    max_fps: float | None = None
+
+    def shape(self, depth: DepthFrame) -> DepthFrame:
+        """Crop, then downscale; the intrinsics follow so mm <-> pixels stays right."""
+        data, intr = depth.data, depth.intrinsics
+        if self.crop is not None:
+            x, y, w, h = self.crop
+            data = data[y:y + h, x:x + w]
+            intr = replace(intr, cx=intr.cx - x, cy=intr.cy - y)
+        if self.downscale > 1:
+            k = self.downscale
+            data = data[::k, ::k]
+            intr = replace(intr, fx=intr.fx / k, fy=intr.fy / k, cx=intr.cx / k, cy=intr.cy / k)
+        if data is depth.data:
+            return depth
+        return replace(depth, data=data, intrinsics=intr)
+
+
+class _DepthWorker(threading.Thread):
+    """Compresses and sends the newest offered depth image; skips the ones it had no time for."""
+
+    def __init__(self, socket: zmq.Socket, session: int, options: DepthOptions) -> None:
+        super().__init__(name="issv-depth-publisher", daemon=True)
+        self.socket, self.session, self.options = socket, session, options
+        self._cond = threading.Condition()
+        self._slot: tuple[int, float, DepthFrame] | None = None
+        self._closing = False
+        self.sent = 0
+        self.skipped = 0
+        self.bytes = 0
+        self.raw_bytes = 0
+
+    def offer(self, frame_seq: int, capture_time: float, depth: DepthFrame) -> None:
+        with self._cond:
+            if self._slot is not None:
+                self.skipped += 1
+            self._slot = (frame_seq, capture_time, depth)
+            self._cond.notify()
+
+    def run(self) -> None:
+        while True:
+            with self._cond:
+                while self._slot is None and not self._closing:
+                    self._cond.wait()
+                if self._slot is None:
+                    return
+                frame_seq, capture, depth = self._slot
+                self._slot = None
+            depth = self.options.shape(depth)
+            self.sent += 1
+            msg = wire.encode_depth(self.session, self.sent, capture, frame_seq, depth, self.options.codec)
+            self.socket.send(msg, copy=False)
+            self.bytes += len(msg)
+            self.raw_bytes += depth.data.nbytes
+
+    def close(self) -> None:
+        with self._cond:
+            self._closing = True
+            self._cond.notify()
+        self.join(timeout=2.0)
+
+
+class Publisher:
+    """Publishes frames at `bind` (events) and its port + 1 (depth). Call publish() from one thread."""
+
+    def __init__(self, bind: str, depth: DepthOptions = DepthOptions(), backend: str = "") -> None:
+        events_addr, depth_addr = endpoints(bind)
+        if depth.codec not in wire.CODECS:
+            raise UserError(f"issv serve: unknown codec {depth.codec!r}; expected one of {', '.join(wire.CODECS)}")
+        self.bind, self.backend, self.depth_options = bind, backend, depth
+        self.session = int.from_bytes(os.urandom(8), "little")
+        self.ctx = zmq.Context()
+        self.events = self.ctx.socket(zmq.XPUB)
+        self.events.setsockopt(zmq.SNDHWM, EVENT_HWM)
+        self.events.setsockopt(zmq.LINGER, 1000)
+        self.depth = self.ctx.socket(zmq.PUB)
+        self.depth.setsockopt(zmq.CONFLATE, 1)
+        self.depth.setsockopt(zmq.SNDBUF, DEPTH_SNDBUF)
+        self.depth.setsockopt(zmq.LINGER, 0)
+        for socket, addr in ((self.events, events_addr), (self.depth, depth_addr)):
+            try:
+                socket.bind(addr)
+            except zmq.ZMQError as error:
+                self.ctx.destroy(linger=0)
+                raise UserError(f"issv serve: cannot bind {addr}: {error} (is another `issv serve` "
+                                f"running there? use --bind tcp://HOST:PORT)") from None
+        self.seq = {name: 0 for name in wire.STREAMS.values()}
+        self.subscribers = 0
+        self._lock = threading.Lock()
+        self._last_heartbeat = 0.0
+        self._last_depth_capture = float("-inf")
+        self._worker = _DepthWorker(self.depth, self.session, depth)
+        self._worker.start()
+        self._closed = False
+
+    # -- per frame (sensor thread) -------------------------------------------------------------
+    def publish(self, frame: Frame) -> None:
+        with self._lock:
+            if self._closed:
+                return
+            self._subscriptions()
+            for g in frame.gestures:
+                self.seq["gestures"] += 1
+                self.events.send(wire.encode_gesture(self.session, self.seq["gestures"], frame.capture_time,
+                                                     frame.seq, g))
+            with_depth = self._wants_depth(frame)
+            self.seq["hands"] += 1
+            self.events.send(wire.encode_hands(self.session, self.seq["hands"], frame.capture_time, frame.seq,
+                                               frame.timestamp, frame.backend or self.backend, frame.hands,
+                                               with_depth))
+            if with_depth:
+                self._worker.offer(frame.seq, frame.capture_time, frame.depth)
+            if time.monotonic() - self._last_heartbeat >= HEARTBEAT_S:
+                self._status(wire.HEARTBEAT)
+
+    def wait_for_subscriber(self, timeout: float) -> bool:
+        """Block until a subscriber has joined (benchmarks start counting from there)."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            with self._lock:
+                self._subscriptions()
+                if self.subscribers:
+                    return True
+            time.sleep(0.01)
+        return False
+
+    def _wants_depth(self, frame: Frame) -> bool:
+        opts = self.depth_options
+        if not opts.enabled or frame.depth is None:
+            return False
+        if opts.max_fps and frame.capture_time - self._last_depth_capture < 0.95 / opts.max_fps:
+            return False
+        self._last_depth_capture = frame.capture_time
+        return True
+
+    def _subscriptions(self) -> None:
+        """XPUB hands us b'\\x01topic' when a subscriber joins and b'\\x00topic' when it leaves."""
+        while True:
+            try:
+                note = self.events.recv(zmq.NOBLOCK)
+            except zmq.Again:
+                return
+            if note[:1] == b"\x01":
+                self.subscribers += 1
+                self._status(wire.HEARTBEAT)  # greet it: it learns our session and sequence numbers
+            elif note[:1] == b"\x00":
+                self.subscribers = max(0, self.subscribers - 1)
+
+    def _status(self, kind: int) -> None:
+        last = dict(self.seq, depth=self._worker.sent)
+        self.events.send(wire.encode_status(kind, self.session, 0, last, self.backend, self._worker.skipped,
+                                            time.time()))
+        self._last_heartbeat = time.monotonic()
+
+    # -- reporting and shutdown ----------------------------------------------------------------
+    def stats(self) -> dict:
+        w = self._worker
+        return {"bind": self.bind, "subscribers": self.subscribers, "sent": dict(self.seq, depth=w.sent),
+                "depth_skipped": w.skipped, "depth_bytes": w.bytes,
+                "compression": round(w.raw_bytes / w.bytes, 2) if w.bytes else None}
+
+    def close(self) -> None:
+        """Say goodbye (with the last sequence numbers, so subscribers can count tail loss)."""
+        with self._lock:
+            if self._closed:
+                return
+            self._closed = True
+            self._worker.close()
+            self._status(wire.BYE)
+            self.events.close(linger=1000)
+            self.depth.close(linger=0)
+            self.ctx.term()

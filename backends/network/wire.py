@@ -1,0 +1,340 @@
+"""The wire format of `issv serve`: what one message is, byte for byte (documented in README.md).
+
+Every message starts with the same 32-byte header, little-endian:
+
+    magic  b"ISSV"   4 bytes
+    version u8       (1)
+    kind    u8       DEPTH 1, HANDS 2, GESTURE 3, HEARTBEAT 4, BYE 5
+    flags   u16      (0)
+    session u64      random per publisher run: a new value means the publisher restarted
+    seq     u64      per stream (depth, hands, gestures), from 1, no gaps at the sender
+    capture f64      wall-clock time (time.time()) when the sensor captured the frame
+
+then the body. HANDS, GESTURE, HEARTBEAT and BYE bodies are compact JSON (small, readable from any
+language). A DEPTH body is a fixed binary block followed by the compressed image:
+
+    frame_seq u64, frame_id u64, timestamp f64, width u16, height u16, codec u8, mirrored u8,
+    2 pad bytes, fx f64, fy f64, cx f64, cy f64     (the intrinsics of the image as sent, so a
+    cropped or downscaled image still converts between millimetres and pixels correctly)
+
+Decoding never trusts the bytes: any problem raises `WireError` whose `kind` names what was wrong
+(the subscriber counts problems per kind).
+"""
+from __future__ import annotations
+
+import importlib.util
+import json
+import math
+import struct
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+import zstandard
+
+from host import DepthFrame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics, Side
+
+MAGIC = b"ISSV"
+VERSION = 1
+DEPTH, HANDS, GESTURE, HEARTBEAT, BYE = 1, 2, 3, 4, 5
+STREAMS = {DEPTH: "depth", HANDS: "hands", GESTURE: "gestures"}
+HEADER = struct.Struct("<4sBBHQQd")
+DEPTH_BODY = struct.Struct("<QQdHHBB2x4d")
+MAX_PIXELS = 4096 * 4096  # refuse to allocate more than this for one depth image
+MAX_JSON = 1 << 20
+
+
+class WireError(ValueError):
+    """A message that cannot be decoded; `kind` is a short name for what was wrong."""
+
+    def __init__(self, kind: str, detail: str) -> None:
+        super().__init__(f"{kind}: {detail}")
+        self.kind = kind
+
+
+@dataclass(frozen=True)
+class Header:
+    kind: int
+    session: int
+    seq: int
+    capture_time: float
+
+
+@dataclass(frozen=True)
+class DepthMsg:
+    header: Header
+    frame_seq: int
+    depth: DepthFrame
+    wire_bytes: int
+
+
+@dataclass(frozen=True)
+class HandsMsg:
+    """The hands of one publisher frame; `depth` says whether a depth message was sent for it."""
+
+    header: Header
+    frame_seq: int
+    timestamp: float
+    backend: str
+    hands: tuple[Hand, ...]
+    depth: bool
+
+
+@dataclass(frozen=True)
+class GestureMsg:
+    header: Header
+    frame_seq: int
+    gesture: Gesture
+
+
+@dataclass(frozen=True)
+class StatusMsg:
+    """HEARTBEAT or BYE: the last sequence number sent on each stream (for tail loss)."""
+
+    header: Header
+    last: dict[str, int]
+    backend: str
+    depth_skipped: int
+
+
+Message = DepthMsg | HandsMsg | GestureMsg | StatusMsg
+
+
+# -- lossless depth codecs ---------------------------------------------------------------------
+# Measured by bench/network.py (its `codecs` table) on Kinect-like 640x480 frames and on the real
+# UTD-MHAD clips. Kinect v1 millimetres come from an 11-bit disparity, so a row holds few distinct
+# values and plain zstd level 1 finds them: it compressed best on every set we tried (3.4-5x on
+# Kinect-like frames, ~50x on background-removed clips) at 1.5-4 ms per frame. A row delta turns
+# quantisation steps into many distinct values and made zstd worse (2.2-3.6x); lz4 is fast but
+# halves the ratio. The alternatives stay selectable (`issv serve --codec`) and measured.
+
+_ZC = zstandard.ZstdCompressor(level=1)
+
+
+def _delta(data: np.ndarray) -> np.ndarray:
+    out = data.copy()
+    out[:, 1:] -= data[:, :-1]  # uint16 arithmetic wraps: exactly invertible by a cumulative sum
+    return out
+
+
+def _undelta(delta: np.ndarray) -> np.ndarray:
+    # A wide accumulator is faster than uint16 and equal modulo 2**16 (rows are < 2**47 long).
+    return np.cumsum(delta.view(np.int16), axis=1).astype(np.uint16)
+
+
+def _shuffle(data: np.ndarray) -> bytes:
+    return data.view(np.uint8).reshape(-1, 2).T.tobytes()
+
+
+def _unshuffle(raw: bytes, shape: tuple[int, int]) -> np.ndarray:
+    planes = np.frombuffer(raw, np.uint8).reshape(2, -1)
+    out = np.empty((planes.shape[1], 2), np.uint8)
+    out[:, 0], out[:, 1] = planes
+    return out.view(np.uint16).reshape(shape)
+
+
+def _zstd_out(payload: bytes, size: int) -> bytes:
+    try:
+        out = zstandard.ZstdDecompressor().decompress(payload, max_output_size=size)
+    except zstandard.ZstdError as error:
+        raise WireError("bad-depth", f"zstd: {error}") from None
+    if len(out) != size:
+        raise WireError("bad-depth", f"decompressed {len(out)} bytes, expected {size}")
+    return out
+
+
+def _lz4_encode(data: bytes) -> bytes:
+    import lz4.frame
+    return lz4.frame.compress(data)
+
+
+def _lz4_decode(payload: bytes, size: int) -> bytes:
+    import lz4.frame
+    try:
+        with lz4.frame.LZ4FrameDecompressor() as d:
+            out = d.decompress(payload, max_length=size)
+    except RuntimeError as error:
+        raise WireError("bad-depth", f"lz4: {error}") from None
+    if len(out) != size:
+        raise WireError("bad-depth", f"decompressed {len(out)} bytes, expected {size}")
+    return out
+
+
+def _raw_decode(payload: bytes, size: int) -> bytes:
+    if len(payload) != size:
+        raise WireError("bad-depth", f"{len(payload)} raw bytes, expected {size}")
+    return payload
+
+
+@dataclass(frozen=True)
+class Codec:
+    id: int
+    name: str
+    encode: Callable[[np.ndarray], bytes]
+    decode: Callable[[bytes, tuple[int, int]], np.ndarray]
+
+
+def _bytes_codec(cid: int, name: str, pre: Callable[[np.ndarray], bytes], post: Callable[[bytes, tuple], np.ndarray],
+                 squeeze: Callable[[bytes], bytes], unsqueeze: Callable[[bytes, int], bytes]) -> Codec:
+    return Codec(cid, name, lambda a: squeeze(pre(a)),
+                 lambda p, shape: post(unsqueeze(p, shape[0] * shape[1] * 2), shape))
+
+
+def _plain(a: np.ndarray) -> bytes:
+    return a.tobytes()
+
+
+def _unplain(raw: bytes, shape: tuple[int, int]) -> np.ndarray:
+    return np.frombuffer(raw, np.uint16).reshape(shape)
+
+
+CODECS: dict[str, Codec] = {c.name: c for c in (
+    _bytes_codec(0, "raw", _plain, _unplain, lambda b: b, _raw_decode),
+    _bytes_codec(1, "zstd", _plain, _unplain, _ZC.compress, _zstd_out),
+    _bytes_codec(2, "delta-shuffle-zstd", lambda a: _shuffle(_delta(a)),
+                 lambda r, s: _undelta(_unshuffle(r, s)), _ZC.compress, _zstd_out),
+    _bytes_codec(4, "shuffle-zstd", _shuffle, _unshuffle, _ZC.compress, _zstd_out),
+)}
+if importlib.util.find_spec("lz4") is not None:  # optional: measured when installed
+    CODECS["delta-shuffle-lz4"] = _bytes_codec(3, "delta-shuffle-lz4", lambda a: _shuffle(_delta(a)),
+                                               lambda r, s: _undelta(_unshuffle(r, s)), _lz4_encode, _lz4_decode)
+CODEC_BY_ID = {c.id: c for c in CODECS.values()}
+DEFAULT_CODEC = "zstd"
+
+
+# -- encoding ----------------------------------------------------------------------------------
+def header(kind: int, session: int, seq: int, capture_time: float) -> bytes:
+    return HEADER.pack(MAGIC, VERSION, kind, 0, session, seq, capture_time)
+
+
+def encode_depth(session: int, seq: int, capture_time: float, frame_seq: int, depth: DepthFrame,
+                 codec: str = DEFAULT_CODEC) -> bytes:
+    c = CODECS[codec]
+    i = depth.intrinsics
+    body = DEPTH_BODY.pack(frame_seq, depth.frame_id % 2**64, depth.timestamp, depth.width, depth.height, c.id,
+                           int(depth.mirrored), i.fx, i.fy, i.cx, i.cy)
+    return header(DEPTH, session, seq, capture_time) + body + c.encode(depth.data)
+
+
+def _json(kind: int, session: int, seq: int, capture_time: float, body: dict) -> bytes:
+    return header(kind, session, seq, capture_time) + json.dumps(body, separators=(",", ":")).encode()
+
+
+def encode_hands(session: int, seq: int, capture_time: float, frame_seq: int, timestamp: float,
+                 backend: str, hands: tuple[Hand, ...], depth: bool) -> bytes:
+    return _json(HANDS, session, seq, capture_time, {
+        "frame": frame_seq, "t": timestamp, "backend": backend, "depth": depth,
+        "hands": [[h.id, h.state.value, *h.position, h.side.value, h.user_id, h.confidence] for h in hands]})
+
+
+def encode_gesture(session: int, seq: int, capture_time: float, frame_seq: int, g: Gesture) -> bytes:
+    return _json(GESTURE, session, seq, capture_time, {
+        "frame": frame_seq, "type": g.type.value, "state": g.state.value, "position": list(g.position),
+        "hand": g.hand_id, "side": g.side.value, "confidence": g.confidence, "t": g.timestamp})
+
+
+def encode_status(kind: int, session: int, seq: int, last: dict[str, int], backend: str,
+                  depth_skipped: int, now: float) -> bytes:
+    return _json(kind, session, seq, now, {"last": last, "backend": backend, "depth_skipped": depth_skipped})
+
+
+# -- decoding (never trusts the bytes) ---------------------------------------------------------
+def decode(data: bytes) -> Message:
+    if len(data) < HEADER.size:
+        raise WireError("truncated", f"{len(data)} bytes, shorter than the {HEADER.size}-byte header")
+    magic, version, kind, _flags, session, seq, capture = HEADER.unpack_from(data)
+    if magic != MAGIC:
+        raise WireError("bad-magic", f"starts with {magic!r}, not {MAGIC!r}")
+    if version != VERSION:
+        raise WireError("bad-version", f"version {version}, this issv speaks {VERSION}")
+    if not math.isfinite(capture):
+        raise WireError("bad-field", "capture time is not a finite number")
+    h = Header(kind, session, seq, capture)
+    body = memoryview(data)[HEADER.size:]
+    if kind == DEPTH:
+        return _decode_depth(h, body, len(data))
+    if kind in (HANDS, GESTURE, HEARTBEAT, BYE):
+        doc = _load_json(body)
+        try:
+            return _JSON_DECODERS[kind](h, doc)
+        except (KeyError, TypeError, ValueError, IndexError, AttributeError) as error:
+            raise WireError("bad-field", f"{type(error).__name__}: {error}") from None
+    raise WireError("unknown-kind", f"message kind {kind}")
+
+
+def _decode_depth(h: Header, body: memoryview, size: int) -> DepthMsg:
+    if len(body) < DEPTH_BODY.size:
+        raise WireError("truncated", f"depth body of {len(body)} bytes, shorter than {DEPTH_BODY.size}")
+    frame_seq, frame_id, ts, w, hgt, codec_id, mirrored, fx, fy, cx, cy = DEPTH_BODY.unpack_from(body)
+    codec = CODEC_BY_ID.get(codec_id)
+    if codec is None:
+        raise WireError("bad-depth", f"unknown codec {codec_id}")
+    if not (0 < w * hgt <= MAX_PIXELS):
+        raise WireError("bad-depth", f"image size {w}x{hgt}")
+    if not all(math.isfinite(v) for v in (ts, fx, fy, cx, cy)) or fx <= 0 or fy <= 0:
+        raise WireError("bad-depth", "timestamp or intrinsics are not usable numbers")
+    data = codec.decode(bytes(body[DEPTH_BODY.size:]), (hgt, w))
+    depth = DepthFrame(data, Intrinsics(fx, fy, cx, cy), frame_id=frame_id, timestamp=ts,
+                       capture_time=h.capture_time, mirrored=bool(mirrored))
+    return DepthMsg(h, frame_seq, depth, size)
+
+
+def _load_json(body: memoryview) -> dict:
+    if len(body) > MAX_JSON:
+        raise WireError("oversize", f"{len(body)} bytes of JSON")
+    try:
+        doc = json.loads(bytes(body))
+    except (UnicodeDecodeError, ValueError, RecursionError) as error:
+        raise WireError("bad-json", str(error)[:80]) from None
+    if not isinstance(doc, dict):
+        raise WireError("bad-json", f"expected an object, got {type(doc).__name__}")
+    return doc
+
+
+def _num(v: object) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise ValueError(f"expected a finite number, got {v!r}")
+    return float(v)
+
+
+def _int(v: object) -> int:
+    if isinstance(v, bool) or not isinstance(v, int):
+        raise ValueError(f"expected an integer, got {v!r}")
+    return v
+
+
+def _vec(v: object) -> tuple[float, float, float]:
+    if not isinstance(v, list) or len(v) != 3:
+        raise ValueError(f"expected [x, y, z], got {v!r}")
+    return (_num(v[0]), _num(v[1]), _num(v[2]))
+
+
+def _hand(row: object) -> Hand:
+    if not isinstance(row, list) or len(row) != 8:
+        raise ValueError(f"expected a hand row of 8 values, got {row!r}")
+    return Hand(_int(row[0]), HandState(row[1]), _vec(row[2:5]), Side(row[5]), _int(row[6]), _num(row[7]))
+
+
+def _hands(h: Header, d: dict) -> HandsMsg:
+    rows = d["hands"]
+    if not isinstance(rows, list) or not isinstance(d["backend"], str):
+        raise ValueError("hands must be a list and backend a string")
+    return HandsMsg(h, _int(d["frame"]), _num(d["t"]), d["backend"][:64], tuple(_hand(r) for r in rows),
+                    bool(d["depth"]))
+
+
+def _gesture(h: Header, d: dict) -> GestureMsg:
+    g = Gesture(GestureType(d["type"]), GestureState(d["state"]), _vec(d["position"]), _int(d["hand"]),
+                Side(d["side"]), _num(d["confidence"]), _num(d["t"]))
+    return GestureMsg(h, _int(d["frame"]), g)
+
+
+def _status(h: Header, d: dict) -> StatusMsg:
+    last = d["last"]
+    if not isinstance(last, dict):
+        raise ValueError("last must be an object")
+    return StatusMsg(h, {k: _int(last[k]) for k in STREAMS.values()}, str(d["backend"])[:64],
+                     _int(d["depth_skipped"]))
+
+
+_JSON_DECODERS = {HANDS: _hands, GESTURE: _gesture, HEARTBEAT: _status, BYE: _status}

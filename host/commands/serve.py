@@ -1,0 +1,155 @@
+"""`issv serve PROFILE`: run a profile's source and backend and publish its frames for `network`.
+
+The sensor side is the show's own (host.loop.Show with no effects): the same pacing, limits and
+metrics as `issv run`; the backend is wrapped so every frame it makes is published as it is made.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import signal
+import sys
+import time
+from pathlib import Path
+
+from rich.live import Live
+
+from host import profile as profiles
+from host.assemble import make_backend
+from host.contracts import Backend, Stage
+from host.errors import UserError
+from host.loop import Limits, Show
+from host.model import Frame
+from host.status import line, stderr, summary
+
+HELP = "publish a profile's backend frames on the network (subscribe with backend = \"network\")"
+DEFAULT_BIND = "tcp://127.0.0.1:5555"
+
+
+def crop(text: str) -> tuple[int, int, int, int]:
+    try:
+        x, y, w, h = (int(v) for v in text.split(","))
+        if x >= 0 and y >= 0 and w > 0 and h > 0:
+            return (x, y, w, h)
+    except ValueError:
+        pass
+    raise argparse.ArgumentTypeError(f"expected X,Y,WIDTH,HEIGHT in pixels such as 80,60,480,360, got {text!r}")
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    from backends.network.wire import CODECS, DEFAULT_CODEC
+    p.add_argument("profile", help="a profile TOML file; its source and backend are served")
+    p.add_argument("--bind", metavar="ADDR",
+                   help=f"where to publish (default {DEFAULT_BIND}: this machine only; tcp://0.0.0.0:5555 "
+                        "for every interface). Depth uses the next port. With --transport ros: the ROS master URI")
+    p.add_argument("--transport", choices=("zmq", "ros"), default="zmq", help="ZeroMQ (default) or ROS 1 topics")
+    p.add_argument("--namespace", default="/openiss", help="ROS topic namespace (default /openiss)")
+    p.add_argument("--no-depth", action="store_true", help="send hands and gestures only")
+    p.add_argument("--codec", choices=sorted(CODECS), default=DEFAULT_CODEC,
+                   help=f"lossless depth compression (default {DEFAULT_CODEC})")
+    p.add_argument("--downscale", type=int, default=1, metavar="N", help="keep every Nth depth pixel and row")
+    p.add_argument("--crop", type=crop, metavar="X,Y,W,H", help="send only this part of the depth image")
+    p.add_argument("--depth-fps", type=float, metavar="F", help="send at most F depth images per second")
+    p.add_argument("--frames", type=int, metavar="N", help="stop after N sensor frames")
+    p.add_argument("--seconds", type=float, metavar="S", help="stop after S seconds of source time")
+    p.add_argument("--fast", action="store_true", help="do not pace recorded sources")
+    p.add_argument("--stats-json", metavar="FILE", help="write what was published as JSON at exit")
+
+
+class Publishing(Backend):
+    """The profile's backend, publishing each frame it makes before the show sees it."""
+
+    def __init__(self, inner: Backend, publisher) -> None:
+        super().__init__(inner.source, inner.options)
+        self.inner, self.publisher, self.name = inner, publisher, inner.name
+
+    def init(self) -> None:
+        self.inner.init()
+
+    def start_gesture_detection(self) -> None:
+        self.inner.start_gesture_detection()
+
+    def start_hand_tracking(self) -> None:
+        self.inner.start_hand_tracking()
+
+    def update(self) -> Frame | None:
+        frame = self.inner.update()
+        if frame is not None:
+            self.publisher.publish(frame)
+        return frame
+
+    def stop(self) -> None:
+        self.inner.stop()
+
+    def world_to_depth(self, position):
+        return self.inner.world_to_depth(position)
+
+
+class ServeStatus:
+    """The show's status line plus what the publisher sent, redrawn 4 times a second on a terminal."""
+
+    def __init__(self, publisher) -> None:
+        self.publisher = publisher
+        self._live: Live | None = None
+        self._next = 0.0
+
+    def __enter__(self) -> "ServeStatus":
+        if stderr.is_terminal:
+            self._live = Live("", console=stderr, refresh_per_second=4, transient=True)
+            self._live.__enter__()
+        return self
+
+    def __call__(self, show: Show) -> None:
+        now = time.monotonic()
+        if self._live is not None and now >= self._next:
+            self._next = now + 0.25
+            s = self.publisher.stats()
+            self._live.update(f"{line(show.metrics)}\n[bold]serve[/] {s['bind']}  subscribers {s['subscribers']}  "
+                              f"sent {s['sent']}  depth skipped {s['depth_skipped']}  "
+                              f"compression {s['compression'] or '-'}x")
+
+    def __exit__(self, *exc: object) -> None:
+        if self._live is not None:
+            self._live.__exit__(*exc)
+
+
+def make_publisher(args: argparse.Namespace, backend: str):
+    from backends.network.publisher import DepthOptions
+    depth = DepthOptions(not args.no_depth, args.codec, max(1, args.downscale), args.crop, args.depth_fps)
+    if args.transport == "ros":
+        from backends.network.ros import RosPublisher
+        return RosPublisher(args.bind, args.namespace, depth, backend)
+    from backends.network.publisher import Publisher
+    return Publisher(args.bind or DEFAULT_BIND, depth, backend)
+
+
+def main(args: argparse.Namespace) -> int:
+    prof = profiles.load(args.profile)
+    if prof.backend.cls.name == "network":
+        raise UserError(f"issv serve: {args.profile} uses backend 'network'; serve a profile whose backend "
+                        "computes frames (e.g. profiles/demo.toml)")
+    inner = make_backend(prof, realtime=not args.fast)
+    publisher = make_publisher(args, inner.name)
+    backend = Publishing(inner, publisher)
+    stage = Stage(size=tuple(prof.model.output.size), fps=prof.model.output.fps, backend=backend.name)
+    status = ServeStatus(publisher)
+    show = Show(backend, [], stage, limits=Limits(args.frames, args.seconds), status=status)
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: show.request_stop())
+    where = publisher.stats()["bind"]
+    print(f"issv serve: publishing backend {inner.name!r} at {where}; Ctrl-C stops", file=sys.stderr, flush=True)
+    try:
+        with status:
+            metrics = show.run()
+    finally:
+        publisher.close()
+    summary(metrics)
+    stats = publisher.stats()
+    print(f"issv serve: sent {stats['sent']}, depth skipped {stats['depth_skipped']}, "
+          f"compression {stats['compression'] or '-'}x", file=sys.stderr, flush=True)
+    if args.stats_json:
+        Path(args.stats_json).write_text(json.dumps(stats, indent=2) + "\n")
+    if show.sensor_error is not None:
+        err = show.sensor_error
+        raise UserError(f"issv serve: backend {inner.name!r} failed: {type(err).__name__}: {err}")
+    return 0

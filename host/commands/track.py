@@ -1,0 +1,60 @@
+"""`issv track CLIP.npz [...]`: run a backend over depth clips as fast as possible, print its output.
+
+Per frame one `hands` line (Frame.hands_json()) and one line per gesture event (Gesture.to_json()),
+the event lines of DESIGN.md. With several clips every line also carries `"clip": PATH`, so a
+directory of clips is measured in one process (one backend per clip: each starts fresh).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from host.contracts import PluginUnavailable
+from host.errors import UserError
+from host.plugins import default_registry
+
+HELP = "track hands and gestures in depth clips (.npz) with a backend; prints event lines"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("clips", nargs="+", type=Path, help="depth clips (.npz, DESIGN.md)")
+    p.add_argument("--backend", default="openiss", help="backend to run (default: openiss)")
+
+
+def _plugin(kind: str, name: str):
+    registry = default_registry()
+    entry = registry.get(kind, name)
+    if entry is None:
+        raise UserError(f"no {kind[:-1]} named {name!r}; installed: {', '.join(registry.names(kind)) or 'none'}")
+    reason = entry.availability()
+    if reason is not None:
+        raise UserError(f"{kind[:-1]} {name!r} cannot run here: {reason}")
+    return entry.cls
+
+
+def track(clip: Path, backend_cls, source_cls, tag: str | None, out) -> None:
+    """Play one clip through a fresh backend, writing its lines to `out`."""
+    source = source_cls(source_cls.Options(path=str(clip)))
+    backend = backend_cls(source, backend_cls.Options())
+    if not backend_cls.needs_source:
+        raise UserError(f"backend {backend_cls.name!r} does not track depth (it makes its own frames)")
+    extra = {"clip": tag} if tag is not None else {}
+    try:
+        with backend:
+            while (frame := backend.update()) is not None:
+                out.write(json.dumps({**frame.hands_json(), **extra}) + "\n")
+                for gesture in frame.gestures:
+                    out.write(json.dumps({**gesture.to_json(), **extra}) + "\n")
+    except PluginUnavailable as error:
+        raise UserError(f"backend {backend_cls.name!r}: {error}") from None
+
+
+def main(args: argparse.Namespace) -> int:
+    backend_cls = _plugin("backends", args.backend)
+    source_cls = _plugin("sources", "clip")
+    several = len(args.clips) > 1
+    for clip in args.clips:
+        track(clip, backend_cls, source_cls, str(clip) if several else None, sys.stdout)
+    return 0

@@ -1,0 +1,92 @@
+"""Writes frames into an MCAP recording as they are tracked (see codec.py for the format)."""
+from __future__ import annotations
+
+import json
+import threading
+import time
+from pathlib import Path
+
+from mcap.writer import CompressionType, Writer
+
+from host import __version__
+from host.errors import UserError
+from host.model import DepthFrame, Frame
+from host.recording import codec
+
+# Small chunks, flushed at least once a second: a crash loses at most about a second of show.
+CHUNK_BYTES = 64 * 1024
+FLUSH_EVERY_S = 1.0
+
+
+class RecordingWriter:
+    """One recording file. Thread-safe: the sensor thread writes frames, the main thread closes.
+
+    Depth is zstd-compressed per message, so MCAP chunks are left uncompressed (no double work).
+    """
+
+    def __init__(self, path: str | Path, meta: dict[str, str] | None = None) -> None:
+        self.path = Path(path)
+        try:
+            self._file = open(self.path, "wb")
+        except OSError as error:
+            raise UserError(f"{self.path}: cannot write the recording: {error.strerror or error}") from None
+        self._lock = threading.Lock()
+        self._mcap = Writer(self._file, chunk_size=CHUNK_BYTES, compression=CompressionType.NONE)
+        self._mcap.start(profile="issv", library=f"issv {__version__}")
+        self._mcap.add_metadata("issv", {"format": codec.FORMAT, "issv_version": __version__, **(meta or {})})
+        self._channels = {codec.DEPTH: self._mcap.register_channel(codec.DEPTH, codec.DEPTH_ENCODING, 0)}
+        for topic, schema in codec.SCHEMAS.items():
+            sid = self._mcap.register_schema(schema["title"], "jsonschema", json.dumps(schema).encode())
+            self._channels[topic] = self._mcap.register_channel(topic, "json", sid)
+        self._last_depth: DepthFrame | None = None
+        self._last_flush = time.monotonic()
+        self._t = 0  # log time (ns) of the last frame, for the metrics messages
+        self.frames = 0
+        self.closed = False
+
+    def _add(self, topic: str, log_time: int, publish_time: int, data: bytes, seq: int = 0) -> None:
+        self._mcap.add_message(self._channels[topic], log_time=log_time, data=data,
+                               publish_time=publish_time, sequence=seq)
+
+    def write_frame(self, frame: Frame) -> None:
+        """Depth (once per image), then the frame's gestures, then its hands: the frame's last word."""
+        log_time = codec.seconds_to_ns(frame.timestamp)
+        publish = codec.seconds_to_ns(frame.capture_time)
+        with self._lock:
+            if self.closed:
+                return
+            depth = frame.depth
+            if depth is not None and depth is not self._last_depth:
+                self._add(codec.DEPTH, log_time, codec.seconds_to_ns(depth.capture_time),
+                          codec.encode_depth(depth), depth.frame_id)
+                self._last_depth = depth
+            for gesture in frame.gestures:
+                self._add(codec.GESTURES, log_time, publish,
+                          json.dumps(codec.gesture_to_json(gesture, frame.seq)).encode(), frame.seq)
+            self._add(codec.HANDS, log_time, publish, json.dumps(codec.hands_to_json(frame)).encode(), frame.seq)
+            self._t = log_time
+            self.frames += 1
+            if time.monotonic() - self._last_flush >= FLUSH_EVERY_S:
+                self._mcap.flush()
+                self._last_flush = time.monotonic()
+
+    def write_metrics(self, doc: dict, final: bool = False) -> None:
+        with self._lock:
+            if not self.closed:
+                self._add(codec.METRICS, self._t, codec.seconds_to_ns(time.time()),
+                          json.dumps({**doc, "final": final}).encode())
+
+    def close(self) -> None:
+        """Write the summary and footer (index, statistics) so readers can seek."""
+        with self._lock:
+            if self.closed:
+                return
+            self.closed = True
+            self._mcap.finish()
+            self._file.close()
+
+    def __enter__(self) -> "RecordingWriter":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

@@ -1,0 +1,155 @@
+"""The stage: effects draw in profile order, each with its blend mode and opacity.
+
+llvmpipe (Mesa's CPU rasteriser, what runs without a GPU) pays for every pixel of every pass,
+so the stage keeps passes few: an effect at full opacity draws straight onto the stage with its
+blend mode set as the GL blend function, touching only the pixels it covers (a sprite costs its
+own square, not a full-screen layer). Only an effect with opacity < 1 gets a layer texture of its
+own, blended onto the stage in one extra pass. The keystone costs nothing when every effect
+draws through `target.to_clip` (their class says `keystone_aware = True`): the homography is in
+that matrix and shapes land warped on the output directly. Otherwise the stage is a texture that
+`warp.py` draws onto the output in one last pass.
+
+Effects draw premultiplied colour (rgb * alpha, alpha) and leave the blend state as they find
+it: so normal, add, screen and multiply mean the same, however many shapes an effect draws.
+"""
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from host.model import Frame
+from host.render.textures import FrameTextures
+
+
+def pixels_to_clip(size: tuple[int, int], keystone: np.ndarray | None = None) -> np.ndarray:
+    """3x3 from output pixels (y down) to clip space (y up), through a keystone (pixels -> pixels)."""
+    w, h = size
+    m = np.array([[2 / w, 0, -1], [0, -2 / h, 1], [0, 0, 1]], np.float64)
+    return m if keystone is None else m @ keystone
+
+# (source factor, destination factor) for premultiplied colour s over the stage d.
+BLEND_FUNCS = {
+    "normal": (moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA),   # s + d (1 - sa)
+    "add": (moderngl.ONE, moderngl.ONE),                      # s + d
+    "screen": (moderngl.ONE, moderngl.ONE_MINUS_SRC_COLOR),   # s + d (1 - s) = 1 - (1 - s)(1 - d)
+    "multiply": (moderngl.DST_COLOR, moderngl.ONE_MINUS_SRC_ALPHA),  # s d + d (1 - sa)
+}
+# "replace" (no blending) is used for the first effect on the black stage, where it is exact.
+
+QUAD_VERTEX = """
+#version 330
+in vec2 in_pos;
+out vec2 uv;
+void main() { uv = in_pos * 0.5 + 0.5; gl_Position = vec4(in_pos, 0.0, 1.0); }
+"""
+OPACITY_FRAGMENT = """
+#version 330
+uniform sampler2D layer;
+uniform float opacity;
+in vec2 uv;
+out vec4 color;
+void main() { color = texture(layer, uv) * opacity; }
+"""
+
+
+class Layer:
+    """What an effect's `render(target)` gets: where to draw, already bound, blending set.
+
+    Draw premultiplied colour in output pixels (x right, y down from the top-left, `size`),
+    through clip space. `frame` is the newest Frame (None before the first); `time` and `dt` are
+    seconds since the show's first render and since the previous one. `to_clip` is the 3x3 matrix
+    from output pixels to homogeneous clip space (gl_Position = vec4(p.xy, 0, p.z) with
+    p = to_clip * vec3(x, y, 1)): it includes the keystone when the stage is drawn in place.
+    `depth_texture()` and
+    `mask_texture()` give the frame's depth (R32F, metres, 0 = no reading) and user mask (R8,
+    1 = performer), uploaded once per sensor frame and shared by all effects; image row 0 sits at
+    texture t = 1. `fbo` is the framebuffer to draw into (an effect that renders elsewhere first
+    must bind it again with `use()`).
+    """
+
+    def __init__(self, ctx: moderngl.Context, size: tuple[int, int], textures: FrameTextures) -> None:
+        self.ctx = ctx
+        self.size = size
+        self.fbo: moderngl.Framebuffer | None = None
+        self.to_clip = pixels_to_clip(size)
+        self.blend = "normal"
+        self._textures = textures
+        self.frame: Frame | None = None
+        self.time = 0.0
+        self.dt = 0.0
+
+    def use(self) -> None:
+        """Binds the framebuffer and the blending again (after drawing into a texture of your own)."""
+        self.fbo.use()
+        if self.blend == "replace":
+            self.ctx.enable_only(moderngl.NOTHING)
+            return
+        self.ctx.enable_only(moderngl.BLEND)
+        self.ctx.blend_equation = moderngl.FUNC_ADD
+        self.ctx.blend_func = BLEND_FUNCS[self.blend]
+
+    def depth_texture(self) -> moderngl.Texture | None:
+        return self._textures.depth()
+
+    def mask_texture(self) -> moderngl.Texture | None:
+        return self._textures.mask()
+
+
+class Compositor:
+    """Runs the effects' draws onto the stage framebuffer in order; see the module docstring."""
+
+    def __init__(self, ctx: moderngl.Context, size: tuple[int, int], textures: FrameTextures) -> None:
+        self.ctx = ctx
+        self.size = size
+        self.textures = textures
+        self.prog = ctx.program(vertex_shader=QUAD_VERTEX, fragment_shader=OPACITY_FRAGMENT)
+        self.vbo = ctx.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], "f4").tobytes())
+        self.vao = ctx.vertex_array(self.prog, [(self.vbo, "2f", "in_pos")])
+        self._layer_fbo: moderngl.Framebuffer | None = None  # shared by effects with opacity < 1
+        self.target = Layer(ctx, size, textures)
+
+    def _translucent_fbo(self) -> moderngl.Framebuffer:
+        if self._layer_fbo is None:
+            self._layer_fbo = self.ctx.framebuffer([self.ctx.texture(self.size, 4)])
+        return self._layer_fbo
+
+    def begin(self, stage: moderngl.Framebuffer, frame: Frame | None, time: float, dt: float) -> None:
+        stage.use()
+        self.ctx.enable_only(moderngl.NOTHING)
+        stage.clear(0.0, 0.0, 0.0, 1.0)
+        self.stage = stage
+        self.empty = True
+        self.target.frame, self.target.time, self.target.dt = frame, time, dt
+
+    def before(self, blend: str, opacity: float) -> Layer:
+        """Binds where the next effect draws: the stage itself, or a cleared layer if translucent."""
+        target = self.target
+        if opacity >= 1.0:
+            # On the black stage, normal, add and screen all give the source itself: skip blending.
+            first = self.empty and blend != "multiply"
+            target.fbo, target.blend = self.stage, "replace" if first else blend
+        else:
+            target.fbo, target.blend = self._translucent_fbo(), "normal"
+            target.fbo.use()
+            target.fbo.clear(0.0, 0.0, 0.0, 0.0)
+        target.use()
+        return target
+
+    def after(self, blend: str, opacity: float) -> None:
+        """Blends a translucent effect's layer onto the stage."""
+        self.empty = False
+        if opacity >= 1.0:
+            return
+        self.stage.use()
+        self.ctx.enable_only(moderngl.BLEND)
+        self.ctx.blend_func = BLEND_FUNCS[blend]
+        self._layer_fbo.color_attachments[0].use(0)
+        self.prog["opacity"] = float(opacity)
+        self.vao.render(moderngl.TRIANGLE_STRIP)
+
+    def release(self) -> None:
+        if self._layer_fbo is not None:
+            self._layer_fbo.color_attachments[0].release()
+            self._layer_fbo.release()
+        for obj in (self.vao, self.vbo, self.prog):
+            obj.release()

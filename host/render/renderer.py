@@ -1,0 +1,114 @@
+"""The renderer the show loop drives: effects' layers -> composite + keystone -> HUD -> outputs.
+
+The loop calls `render(show, frame)` once per tick and `close()` at the end; `wants_stop` turns
+True when the window is closed. A render effect that raises is disabled with one message and the
+other layers keep rendering.
+"""
+from __future__ import annotations
+
+import time
+from array import array
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from host.render.calibration import check_calibration, check_keystone, keystone_matrix
+from host.render.compositor import Compositor, pixels_to_clip
+from host.render.context import Headless, Window, open_surface
+from host.render.hud import Hud
+from host.render.outputs import VideoOutput, check_folder, read_bgr, save_snapshot
+from host.render.textures import FrameTextures
+from host.render.warp import Keystone
+
+
+class Renderer:
+    def __init__(self, surface: Headless | Window, output: Any, keystone=None) -> None:
+        self.surface = surface
+        self.ctx = surface.ctx
+        self.size = surface.size
+        self.textures = FrameTextures(self.ctx)
+        self.compositor = Compositor(self.ctx, self.size, self.textures)
+        self.corners = keystone
+        self.keystone: Keystone | None = None  # the warp pass, only for effects that need it
+        self.hud = Hud(self.ctx, self.size) if output.hud else None
+        self.video = VideoOutput(output.video, self.size, output.fps) if output.video else None
+        self.snapshot = output.snapshot
+        self.frame_ms = array("d")  # time spent in each render() call, for bench/render.py
+        self._start: float | None = None
+        self._last = 0.0
+
+    @classmethod
+    def create(cls, output: Any, stage: Any) -> "Renderer":
+        """Checks the profile's stage settings, opens the surface and hands the context to `stage`."""
+        keystone = check_keystone(output.keystone) if output.keystone is not None else None
+        calibration = check_calibration(output.calibration) if output.calibration is not None else None
+        if output.snapshot:
+            check_folder(Path(output.snapshot), "snapshot")
+        surface = open_surface(output.mode, tuple(output.size), output.monitor)
+        stage.ctx = surface.ctx
+        stage.size = tuple(surface.size)  # fullscreen: the monitor's size
+        stage.calibration = calibration
+        return cls(surface, output, keystone)
+
+    @property
+    def wants_stop(self) -> bool:
+        return self.surface.closing
+
+    def render(self, show: Any, frame: Any) -> None:
+        t0 = time.perf_counter()
+        self._start = t0 if self._start is None else self._start
+        now, dt = t0 - self._start, (t0 - self._start) - self._last
+        self._last = now
+        self.textures.frame = frame
+        if self._start == t0:
+            self._plan(show)
+        stage = self.keystone.stage if self.keystone else self.surface.fbo
+        self.compositor.begin(stage, frame, now, dt)
+        for slot in show.effects:
+            if not (slot.enabled and slot.effect.renders):
+                continue
+            target = self.compositor.before(slot.blend, slot.opacity)
+            try:
+                slot.effect.render(target)
+            except Exception as error:
+                show.disable(slot, "render", error)
+                continue
+            self.compositor.after(slot.blend, slot.opacity)
+        if self.keystone is not None:
+            self.keystone.draw(self.surface.fbo)
+        if self.hud is not None:
+            self.hud.draw(show.metrics, self.surface.fbo)
+        if self.video is not None:
+            self.video.write(self.surface.fbo)
+        self.surface.present()
+        self.frame_ms.append((time.perf_counter() - t0) * 1000.0)
+
+    def _plan(self, show: Any) -> None:
+        """Keystone in the effects' own matrix when they all draw through it, else a warp pass."""
+        if not self.corners:
+            return
+        drawing = [s.effect for s in show.effects if s.effect.renders]
+        if all(getattr(effect, "keystone_aware", False) for effect in drawing):
+            self.compositor.target.to_clip = pixels_to_clip(self.size, keystone_matrix(self.corners, self.size))
+        else:
+            self.keystone = Keystone(self.ctx, self.size, self.corners)
+
+    def image(self) -> np.ndarray:
+        """The last frame as shown: (H, W, 3) uint8 BGR, row 0 at the top."""
+        return read_bgr(self.surface.fbo)
+
+    def close(self) -> None:
+        try:
+            if self.snapshot and self.frame_ms:
+                save_snapshot(self.snapshot, self.surface.fbo)
+        finally:
+            if self.video is not None:
+                self.video.close()
+            if self.keystone is not None:
+                self.keystone.release()
+            self.textures.release()
+            self.compositor.release()
+            if self.hud is not None:
+                self.hud.release()
+            self.surface.close()

@@ -1,0 +1,152 @@
+"""`oni`: OpenNI2 recordings (.oni files) played through the OpenNI2 runtime.
+
+Uses Debian's `libopenni2-0` (or any OpenNI2 redistributable) through the PyPI `openni`
+bindings (module `openni.openni2`). The bindings look for an unversioned `libOpenNI2.so` in a
+directory; Debian ships only `libOpenNI2.so.0` with its drivers in `OpenNI2/Drivers` beside it, so
+when no unversioned library exists a small directory of symbolic links (the library and its
+drivers folder) is made in the user's cache and handed to `openni2.initialize`.
+
+The OpenNI2 file player paces frames itself (`speed` 1.0 = as recorded), like a camera: the source
+is `live`, and a backend slower than the file sees the newest frame, as it would live.
+"""
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from host import DepthFrame, Intrinsics, Source
+from host.errors import UserError
+from host.options import ProfilePath
+
+LIB = "libOpenNI2.so"
+LIB_DIRS = ["/usr/lib/x86_64-linux-gnu", "/usr/lib/aarch64-linux-gnu", "/usr/lib", "/usr/local/lib"]
+STALL_S = 2.0  # no frame for this long: the file cannot be played
+INSTALL = "on Debian/Ubuntu: apt-get install libopenni2-0 (or set OPENNI2_REDIST to an OpenNI2 Redist folder)"
+
+
+def find_runtime() -> Path | None:
+    """The OpenNI2 library: $OPENNI2_REDIST first, then the system's library folders."""
+    dirs = [os.environ["OPENNI2_REDIST"]] if os.environ.get("OPENNI2_REDIST") else []
+    for folder in dirs + LIB_DIRS:
+        for name in (LIB, LIB + ".0"):
+            if (Path(folder) / name).is_file():
+                return Path(folder) / name
+    return None
+
+
+def bindings_dir(library: Path) -> Path:
+    """A folder holding an unversioned libOpenNI2.so (what the `openni` bindings load) whose
+    `OpenNI2/Drivers` is the runtime's own (where OpenNI2 looks for its device drivers)."""
+    if library.name == LIB:
+        return library.parent
+    cache = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "issv" / "openni2"
+    try:
+        cache.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        cache = Path(tempfile.mkdtemp(prefix="issv-openni2-"))
+    for link, target in ((cache / LIB, library), (cache / "OpenNI2", library.parent / "OpenNI2")):
+        if not (link.is_symlink() and Path(os.readlink(link)) == target):
+            link.unlink(missing_ok=True)
+            link.symlink_to(target)
+    return cache
+
+
+class OniOptions(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    path: ProfilePath = Field(description="an OpenNI2 recording (.oni)")
+    loop: bool = False
+    speed: float = Field(1.0, gt=0, le=10, description="OpenNI2 playback speed: 1.0 = as recorded")
+
+
+class OniSource(Source):
+    name = "oni"
+    Options = OniOptions
+    live = True  # OpenNI2's player paces the file
+
+    @classmethod
+    def availability(cls) -> str | None:
+        try:
+            import openni.openni2  # noqa: F401
+        except ImportError:
+            return "the PyPI package `openni` (OpenNI2 bindings) is missing: pip install openni"
+        library = find_runtime()
+        if library is None:
+            return f"the OpenNI2 runtime ({LIB}) is not installed: {INSTALL}"
+        drivers = library.parent / "OpenNI2" / "Drivers"
+        if not any(drivers.glob("libOniFile.so*")):
+            return f"OpenNI2's file driver (libOniFile.so) is missing in {drivers}: {INSTALL}"
+        return None
+
+    def open(self) -> None:
+        reason = self.availability()
+        if reason is not None:
+            raise UserError(f"source 'oni': {reason}")
+        from openni import openni2
+        from openni.utils import OpenNIError
+
+        self._openni2, self._error = openni2, OpenNIError
+        path = Path(self.options.path)
+        if not path.is_file():
+            raise UserError(f"{path}: no such .oni file")
+        try:
+            openni2.initialize(str(bindings_dir(find_runtime())))
+            self.device = openni2.Device.open_file(str(path).encode())
+            self.stream = self.device.create_depth_stream()
+        except (OpenNIError, openni2.InitializationError) as error:
+            raise UserError(f"{path}: OpenNI2 cannot open it as a recording with depth: {error}") from None
+        if self.stream is None:
+            raise UserError(f"{path}: the recording has no depth stream")
+        mode = self.stream.get_video_mode()
+        self._scale = self._mm_scale(mode.pixelFormat)
+        self.width, self.height = mode.resolutionX, mode.resolutionY
+        self.fps = float(mode.fps or 30)
+        self.intrinsics = Intrinsics.from_fov(self.width, self.height, np.degrees(self.stream.get_horizontal_fov()),
+                                              np.degrees(self.stream.get_vertical_fov()))
+        self.mirrored = bool(self._try(self.stream.get_mirroring_enabled, True))
+        self.frames = int(self._try(lambda: self.device.playback.get_number_of_frames(self.stream), -1))
+        self.device.playback.set_speed(self.options.speed)
+        self.device.playback.set_repeat_enabled(self.options.loop)
+        self.stream.start()
+        self._first_us: int | None = None
+        self._last_index = -1
+
+    def _try(self, get, default):
+        try:
+            return get()
+        except self._error:
+            return default
+
+    def _mm_scale(self, fmt) -> float:
+        formats = {self._openni2.PIXEL_FORMAT_DEPTH_1_MM: 1.0, self._openni2.PIXEL_FORMAT_DEPTH_100_UM: 0.1}
+        if fmt not in formats:
+            raise UserError(f"{self.options.path}: depth pixel format {fmt} is not millimetres or 100 um; "
+                            f"re-record with a depth stream in DEPTH_1_MM")
+        return formats[fmt]
+
+    def read(self) -> DepthFrame | None:
+        if not self.options.loop and 0 < self.frames <= self._last_index:
+            return None
+        if self._openni2.wait_for_any_stream([self.stream], STALL_S) is None:
+            if self._last_index >= 0 and not self.options.loop and self._last_index >= self.frames - 2:
+                return None  # the player stopped at the end of the file
+            raise UserError(f"{self.options.path}: OpenNI2 delivered no depth frame for {STALL_S:.0f} s "
+                            f"(after frame {self._last_index}); the file is damaged or its depth cannot be decoded")
+        frame = self._openni2.VideoStream.read_frame(self.stream)
+        raw = np.frombuffer(frame.get_buffer_as_uint16(), dtype=np.uint16)
+        pixels = raw.reshape(frame.height, frame.stride // 2)[:, : frame.width].copy()
+        if self._scale != 1.0:
+            pixels = np.round(pixels * self._scale).astype(np.uint16)
+        self._first_us = frame.timestamp if self._first_us is None else self._first_us
+        self._last_index = frame.frameIndex
+        return DepthFrame(pixels, self.intrinsics, frame_id=frame.frameIndex,
+                          timestamp=(frame.timestamp - self._first_us) / 1e6, mirrored=self.mirrored)
+
+    def close(self) -> None:
+        for thing in ("stream", "device"):
+            handle = getattr(self, thing, None)
+            if handle is not None:
+                self._try(handle.close, None)

@@ -1,0 +1,164 @@
+"""Synthetic hand trajectories from physical descriptions, for testing the gesture recogniser.
+
+A performer stands (or walks) with the torso at `torso`; each hand moves through key poses
+given relative to the torso in millimetres (performer facing the camera, camera coordinates:
+x towards the image's right, y up, z away), with minimum-jerk motion between them, the way
+human reaching movements are shaped. Sampled at 30 Hz like a Kinect.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from host import Hand, HandState, Side
+
+FPS = 30.0
+HEAD_ABOVE_TORSO = 520.0
+REST = {Side.LEFT: (-200.0, -330.0, -80.0), Side.RIGHT: (200.0, -330.0, -80.0)}  # hands hanging (mirrored view)
+IDS = {Side.LEFT: 1, Side.RIGHT: 2}
+
+
+def min_jerk(s: np.ndarray) -> np.ndarray:
+    """Position fraction along a minimum-jerk reach at time fraction s in [0, 1]."""
+    s = np.clip(s, 0.0, 1.0)
+    return 10 * s**3 - 15 * s**4 + 6 * s**5
+
+
+@dataclass
+class Path3:
+    """Key poses (time s, position mm relative to the torso), min-jerk between them, held after."""
+
+    keys: list[tuple[float, tuple[float, float, float]]]
+
+    def __call__(self, t: float) -> np.ndarray:
+        keys = self.keys
+        if t <= keys[0][0]:
+            return np.array(keys[0][1], float)
+        for (t0, p0), (t1, p1) in zip(keys, keys[1:]):
+            if t <= t1:
+                f = float(min_jerk(np.array((t - t0) / (t1 - t0))))
+                return np.array(p0, float) + f * (np.array(p1, float) - np.array(p0, float))
+        return np.array(keys[-1][1], float)
+
+    def then(self, duration: float, to: tuple[float, float, float]) -> "Path3":
+        """Move to `to` (relative to the torso) in `duration` seconds after the last key."""
+        return Path3(self.keys + [(self.keys[-1][0] + duration, to)])
+
+    def hold(self, duration: float) -> "Path3":
+        return self.then(duration, self.keys[-1][1])
+
+    @property
+    def end(self) -> float:
+        return self.keys[-1][0]
+
+
+def rest(side: Side, t: float = 0.0) -> Path3:
+    return Path3([(t, REST[side])])
+
+
+@dataclass
+class Performance:
+    """Hands (by side) and the torso's path in world mm, sampled into frames."""
+
+    hands: dict[Side, Callable[[float], np.ndarray]]
+    duration: float
+    torso: Callable[[float], np.ndarray] = field(default=lambda t: np.array([0.0, 0.0, 2500.0]))
+    mirrored: bool = True
+
+    def frames(self, with_body: bool = True, noise_mm: float = 0.0, seed: int = 0):
+        """(t, hands, body) per frame; hand positions are world mm (torso + relative pose)."""
+        rng = np.random.default_rng(seed)
+        sign = 1.0 if self.mirrored else -1.0  # unmirrored: the performer's right is the image's left
+        for i in range(int(round(self.duration * FPS)) + 1):
+            t = i / FPS
+            torso = self.torso(t)
+            hands = []
+            for side, path in self.hands.items():
+                rel = path(t) * np.array([sign, 1.0, 1.0])
+                p = torso + rel + rng.normal(0.0, noise_mm, 3)
+                hands.append(Hand(IDS[side], HandState.TRACKING, tuple(float(c) for c in p), side))
+            body = {"torso": tuple(torso), "head": tuple(torso + np.array([0.0, HEAD_ABOVE_TORSO, 0.0]))}
+            yield t, hands, (body if with_body else {})
+
+    def write_csv(self, path: Path, with_body: bool = True) -> Path:
+        """The performance as a hand-trajectory CSV (DESIGN.md)."""
+        lines = ["t,hand,x,y,z"]
+        for t, hands, body in self.frames(with_body):
+            for h in hands:
+                lines.append(f"{t:.4f},{h.side.value},{h.position[0]:.1f},{h.position[1]:.1f},{h.position[2]:.1f}")
+            for name, p in body.items():
+                lines.append(f"{t:.4f},{name},{p[0]:.1f},{p[1]:.1f},{p[2]:.1f}")
+        path.write_text("\n".join(lines) + "\n")
+        return path
+
+
+# --- the choreographies (positions relative to the torso, mirrored view: +x = performer's right) ---
+
+RAISED = (250.0, 350.0, -400.0)  # right hand up in front of the shoulder
+
+
+def swipe(travel: float = 500.0, duration: float = 0.5, to_right: bool = False) -> Performance:
+    """The right hand rises, sweeps `travel` mm sideways in `duration` s, holds, drops back."""
+    x0 = RAISED[0] if not to_right else RAISED[0] - travel
+    start = (x0, RAISED[1], RAISED[2])
+    end = (x0 - travel if not to_right else x0 + travel, RAISED[1], RAISED[2])
+    right = rest(Side.RIGHT).hold(0.3).then(0.6, start).hold(0.3).then(duration, end).hold(0.4).then(0.8, REST[Side.RIGHT])
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
+
+
+def windup_swipe() -> Performance:
+    """A 250 mm wind-up to the performer's right, then a 650 mm swipe to the left."""
+    a = (150.0, 350.0, -400.0)
+    right = (rest(Side.RIGHT).hold(0.3).then(0.6, a).hold(0.2).then(0.35, (400.0, 350.0, -400.0))
+             .then(0.45, (-250.0, 350.0, -400.0)).hold(0.4).then(0.8, REST[Side.RIGHT]))
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
+
+
+def wave(swings: int = 6, amplitude: float = 240.0, half_period: float = 0.2, height: float = 450.0) -> Performance:
+    """The right hand up beside the head, swinging side to side `swings` times."""
+    centre = (250.0, height, -350.0)
+    right = rest(Side.RIGHT).hold(0.3).then(0.6, (centre[0] + amplitude / 2, height, centre[2]))
+    for i in range(swings):
+        x = centre[0] + (amplitude / 2 if i % 2 else -amplitude / 2)
+        right = right.then(half_period, (x, height, centre[2]))
+    right = right.hold(0.2).then(0.8, REST[Side.RIGHT])
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
+
+
+def push(pushes: int = 1, travel: float = 400.0, pause: float = 0.4) -> Performance:
+    """Both hands up in front of the shoulders, pushed forward `travel` mm in 0.25 s and back."""
+    hands = {}
+    for side, x in ((Side.LEFT, -150.0), (Side.RIGHT, 150.0)):
+        near, far = (x, 300.0, -200.0), (x, 300.0, -200.0 - travel)
+        path = rest(side).hold(0.3).then(0.6, near).hold(0.3)
+        for _ in range(pushes):
+            path = path.then(0.25, far).hold(0.15).then(0.3, near).hold(pause)
+        hands[side] = path.then(0.7, REST[side])
+    end = max(p.end for p in hands.values())
+    return Performance(hands, end + 0.5)
+
+
+def hand_raise(above_head: float = 150.0, hold: float = 1.0) -> Performance:
+    right = (rest(Side.RIGHT).hold(0.3).then(0.8, (200.0, HEAD_ABOVE_TORSO + above_head, -150.0))
+             .hold(hold).then(0.8, REST[Side.RIGHT]))
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
+
+
+def walk(distance: float = 2000.0, duration: float = 2.5, swing: float = 250.0) -> Performance:
+    """Walking `distance` mm across the stage, arms swinging `swing` mm forward and back at 1 Hz."""
+    def torso(t: float) -> np.ndarray:
+        return np.array([-distance / 2 + distance * float(min_jerk(np.array(t / duration))), 0.0, 2500.0])
+
+    def arm(side: Side) -> Callable[[float], np.ndarray]:
+        phase = 0.0 if side is Side.LEFT else np.pi
+
+        def at(t: float) -> np.ndarray:
+            swinging = min(1.0, t / 0.5) * min(1.0, max(0.0, (duration + 0.3 - t) / 0.5))
+            s = np.sin(2 * np.pi * t + phase) * swinging
+            return np.array(REST[side]) + np.array([0.0, 40.0 * abs(s), -swing / 2 * s])
+        return at
+
+    return Performance({Side.LEFT: arm(Side.LEFT), Side.RIGHT: arm(Side.RIGHT)}, duration + 0.8, torso)

@@ -1,0 +1,115 @@
+"""`issv serve` and the `network` backend in separate processes on loopback."""
+from __future__ import annotations
+
+import json
+import signal
+import socket
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+from backends.network.backend import NetworkBackend, NetworkOptions
+from sources.clip import Clip
+from tests.backends.network.conftest import CLIP, ROOT, clip_profile, free_ports
+
+
+def subscriber(port: int, **options) -> NetworkBackend:
+    return NetworkBackend(None, NetworkOptions(connect=f"tcp://127.0.0.1:{port}", **options))
+
+
+def test_frames_arrive_whole_depth_bit_exact(serve, tmp_path):
+    port = free_ports()
+    stats_file = tmp_path / "sent.json"
+    serve(str(clip_profile(tmp_path, loop=False)), "--bind", f"tcp://127.0.0.1:{port}",
+          "--stats-json", str(stats_file))
+    clip = Clip(CLIP)
+    truth = {tuple(p) for row in clip.hands for p in row}
+    with subscriber(port, end_with_publisher=True, depth_wait_ms=500) as backend:
+        frames = list(iter(backend.update, None))
+        stats = backend.stats()
+    assert len(frames) >= 40  # the clip is 76 frames; a late joiner may miss the first few
+    with_depth = [f for f in frames if f.depth is not None]
+    assert len(with_depth) >= len(frames) - 2
+    for f in with_depth:
+        assert np.array_equal(f.depth.data, clip.depth[f.depth.frame_id])  # lossless
+        assert f.depth.intrinsics == clip.intrinsics
+    for f in frames:
+        assert f.backend == "truth"
+        assert {h.side.value for h in f.hands} == {"left", "right"}
+        assert all(h.position in truth for h in f.hands)
+    assert stats["streams"]["hands"]["lost"] == 0
+    assert stats["streams"]["hands"]["received"] == len(frames)
+    sent = json.loads(stats_file.read_text())
+    assert sent["sent"]["hands"] == 76 and sent["compression"] > 1
+
+
+BURST = textwrap.dedent("""
+    import sys, time
+    from backends.network.publisher import Publisher, DepthOptions
+    from host import Frame, Gesture, GestureState, GestureType, Side
+    pub = Publisher(sys.argv[1], DepthOptions(enabled=False), "burst")
+    assert pub.wait_for_subscriber(20)
+    k = 0
+    for i in range(3000):
+        gs = []
+        for _ in range(3):
+            gs.append(Gesture(GestureType.SWIPE_UP, GestureState.COMPLETE, (0.0, 0.0, 1.0), 1, Side.LEFT, 1.0, k))
+            k += 1
+        pub.publish(Frame(i + 1, time.time(), None, (), tuple(gs), "burst"))
+    pub.close()
+""")
+
+
+def test_gestures_arrive_exactly_once_and_in_order_under_a_burst():
+    port = free_ports()
+    proc = subprocess.Popen([sys.executable, "-c", BURST, f"tcp://127.0.0.1:{port}"], cwd=ROOT)
+    try:
+        with subscriber(port, end_with_publisher=True) as backend:
+            got = [g.timestamp for f in iter(backend.update, None) for g in f.gestures]
+            stats = backend.stats()
+    finally:
+        proc.wait(timeout=30)
+    assert got == list(range(9000))  # every one, once, in order, as fast as Python can send them
+    assert stats["streams"]["gestures"]["lost"] == 0 and stats["streams"]["gestures"]["duplicates"] == 0
+
+
+def test_reconnects_after_the_publisher_restarts_and_says_so_once(serve, tmp_path, capsys):
+    port = free_ports()
+    profile = str(clip_profile(tmp_path, loop=True))
+    first = serve(profile, "--bind", f"tcp://127.0.0.1:{port}")
+    with subscriber(port) as backend:
+        before = [backend.update() for _ in range(10)]
+        first.proc.send_signal(signal.SIGKILL)  # no goodbye: the hard case
+        first.proc.wait()
+        serve(profile, "--bind", f"tcp://127.0.0.1:{port}")
+        after = [backend.update() for _ in range(10)]
+        stats = backend.stats()
+    assert all(f is not None for f in before + after)
+    assert stats["restarts"] == 1
+    assert capsys.readouterr().err.count("restarted") == 1
+
+
+def _port_free(port: int) -> bool:
+    with socket.socket() as s:
+        try:
+            s.bind(("127.0.0.1", port))
+            return True
+        except OSError:
+            return False
+
+
+def test_serve_and_run_side_by_side_with_no_edits(serve, tmp_path):
+    if not (_port_free(5555) and _port_free(5556)):
+        pytest.skip("port 5555 or 5556 is in use on this machine (another issv serve?)")
+    serve("profiles/demo.toml", "--seconds", "30")
+    metrics = tmp_path / "m.json"
+    run = subprocess.run([sys.executable, "-m", "host", "run", "profiles/network.toml", "--headless",
+                          "--seconds", "2", "--metrics-json", str(metrics)], cwd=ROOT, capture_output=True,
+                         text=True, timeout=60)
+    assert run.returncode == 0, run.stderr
+    m = json.loads(metrics.read_text())
+    assert m["backend"] == "network" and m["frames"] >= 30
+    assert "hands" in run.stderr and "0 lost" in run.stderr

@@ -1,0 +1,79 @@
+"""ROS interop against a real roscore: `issv serve --transport ros` publishes the thesis' topics,
+the `network` backend with transport = "ros" subscribes (as openiss/DepthFrame and as
+sensor_msgs/Image)."""
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from backends.network.ros import rospy_missing
+from sources.clip import Clip
+from tests.backends.network.conftest import CLIP, ROOT, Serve, clip_profile, free_ports
+
+REASON = rospy_missing()
+pytestmark = pytest.mark.skipif(REASON is not None, reason=f"ROS: {REASON}")
+
+
+@pytest.fixture
+def roscore():
+    port = free_ports(1)
+    master = f"http://127.0.0.1:{port}"
+    env = {**os.environ, "ROS_MASTER_URI": master, "ROS_IP": "127.0.0.1", "ROS_HOME": "/tmp/issv-ros-test"}
+    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.DEVNULL, text=True, start_new_session=True)
+    try:
+        for line in core.stdout:
+            if "started core service" in line:
+                break
+        else:
+            pytest.fail("roscore did not start")
+        yield env
+    finally:
+        os.killpg(core.pid, signal.SIGINT)
+        try:
+            core.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            os.killpg(core.pid, signal.SIGKILL)
+            core.wait()
+
+
+def test_serve_over_ros_to_the_network_backend(roscore, tmp_path):
+    master = roscore["ROS_MASTER_URI"]
+    subs = {}
+    for kind in ("frame", "image"):
+        subs[kind] = subprocess.Popen(
+            [sys.executable, "-m", "bench.network", "subscribe", "--transport", "ros", "--connect", master,
+             "--ros-depth", kind, "--timeout", "40", "--dump", str(tmp_path / f"{kind}.npz")],
+            cwd=ROOT, env=roscore, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    for proc in subs.values():  # both subscribed before the publisher starts
+        for line in proc.stderr:
+            if "subscribed" in line:
+                break
+    server = Serve(str(clip_profile(tmp_path, loop=False)), "--transport", "ros", "--bind", master, env=roscore)
+    try:
+        results = {k: p.communicate(timeout=60) for k, p in subs.items()}
+    finally:
+        server.stop()
+        for p in subs.values():
+            if p.poll() is None:
+                p.kill()
+    clip = Clip(CLIP)
+    for kind, (out, err) in results.items():
+        got = json.loads(out.strip().splitlines()[-1])
+        streams = got["streams"]
+        assert got["frames"] >= 40, err
+        assert streams["hands"]["lost"] == 0 and got["malformed"] == {}, err
+        dump = np.load(tmp_path / f"{kind}.npz")
+        assert len(dump["depth"]) >= 40
+        if kind == "frame":  # openiss/DepthFrame carries frame ids: compare image for image
+            for i, data in zip(dump["frame_ids"], dump["depth"]):
+                assert np.array_equal(data, clip.depth[i])
+        else:  # sensor_msgs/Image: every image is one of the clip's, bit for bit
+            for data in dump["depth"]:
+                assert any(np.array_equal(data, c) for c in clip.depth)

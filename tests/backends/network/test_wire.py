@@ -1,0 +1,92 @@
+"""The wire format: lossless depth codecs, cropping and downscaling, events that survive the trip."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from backends.network import wire
+from backends.network.publisher import DepthOptions, endpoints
+from host import DepthFrame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics, Side
+from sources.clip import Clip
+from tests.backends.network.conftest import CLIP
+
+
+def noisy_depth(seed: int = 1) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    data = (rng.normal(2500, 400, (48, 64)).clip(0, 65535)).astype(np.uint16)
+    data[rng.random(data.shape) < 0.1] = 0
+    data[0, 0], data[-1, -1] = 65535, 0  # extremes survive the uint16 wrap-around of a delta
+    return data
+
+
+@pytest.mark.parametrize("codec", sorted(wire.CODECS))
+def test_every_codec_gives_back_the_exact_image(codec):
+    images = [noisy_depth(), Clip(CLIP).depth[10]]
+    for img in images:
+        blob = wire.CODECS[codec].encode(img)
+        assert np.array_equal(wire.CODECS[codec].decode(blob, img.shape), img)
+
+
+def test_depth_message_round_trip_keeps_image_intrinsics_and_times():
+    depth = DepthFrame(noisy_depth(), Intrinsics(50.0, 51.0, 32.0, 24.0), frame_id=7, timestamp=1.25,
+                       capture_time=1000.5, mirrored=False)
+    msg = wire.decode(wire.encode_depth(99, 3, depth.capture_time, 12, depth))
+    assert isinstance(msg, wire.DepthMsg)
+    assert (msg.header.session, msg.header.seq, msg.header.capture_time, msg.frame_seq) == (99, 3, 1000.5, 12)
+    assert np.array_equal(msg.depth.data, depth.data)
+    assert msg.depth.intrinsics == depth.intrinsics
+    assert (msg.depth.frame_id, msg.depth.timestamp, msg.depth.mirrored) == (7, 1.25, False)
+
+
+def test_crop_and_downscale_keep_millimetres_and_pixels_consistent():
+    intr = Intrinsics(60.0, 60.0, 32.0, 24.0)
+    depth = DepthFrame(noisy_depth(), intr)
+    shaped = DepthOptions(crop=(8, 4, 40, 30), downscale=2).shape(depth)
+    assert shaped.data.shape == (15, 20)
+    assert np.array_equal(shaped.data, depth.data[4:34:2, 8:48:2])
+    # the same world point lands on the same depth value in both images
+    u, v = 20, 10  # in the shaped image
+    world = shaped.depth_to_world(u, v, 2000.0)
+    U, V, _ = depth.world_to_depth(world)
+    assert (round(U), round(V)) == (8 + 2 * u, 4 + 2 * v)
+
+
+def test_hands_and_gestures_round_trip():
+    hands = (Hand(1, HandState.NEW, (1.5, -2.0, 2000.0), Side.LEFT, 2, 0.5),
+             Hand(2, HandState.TRACKING, (3.0, 4.0, 2100.0), Side.RIGHT))
+    msg = wire.decode(wire.encode_hands(5, 1, 10.0, 42, 1.5, "truth", hands, True))
+    assert isinstance(msg, wire.HandsMsg)
+    assert (msg.hands, msg.frame_seq, msg.timestamp, msg.backend, msg.depth) == (hands, 42, 1.5, "truth", True)
+    g = Gesture(GestureType.SWIPE_LEFT, GestureState.COMPLETE, (1.0, 2.0, 3.0), 2, Side.RIGHT, 0.75, 3.5)
+    back = wire.decode(wire.encode_gesture(5, 9, 10.0, 42, g))
+    assert isinstance(back, wire.GestureMsg) and back.gesture == g and back.header.seq == 9
+
+
+@pytest.mark.parametrize("bad, kind", [
+    (b"", "truncated"),
+    (b"XXXX" + bytes(40), "bad-magic"),
+    (wire.header(77, 1, 1, 0.0), "unknown-kind"),
+    (wire.header(wire.HANDS, 1, 1, 0.0) + b"{not json", "bad-json"),
+    (wire.header(wire.HANDS, 1, 1, 0.0) + b'{"frame": 1}', "bad-field"),
+    (wire.header(wire.GESTURE, 1, 1, 0.0) + b'{"frame":1,"type":"DANCE","state":"complete","position":[0,0,0],'
+                                             b'"hand":1,"side":"left","confidence":1,"t":0}', "bad-field"),
+    (wire.header(wire.DEPTH, 1, 1, 0.0) + wire.DEPTH_BODY.pack(1, 1, 0.0, 60000, 60000, 1, 0, 1, 1, 1, 1), "bad-depth"),
+])
+def test_malformed_messages_name_what_is_wrong(bad, kind):
+    with pytest.raises(wire.WireError) as error:
+        wire.decode(bad)
+    assert error.value.kind == kind
+
+
+def test_a_compressed_bomb_is_refused_not_inflated():
+    bomb = wire.CODECS["zstd"].encode(np.zeros((2000, 2000), np.uint16))  # claims 10x10 below
+    msg = wire.header(wire.DEPTH, 1, 1, 0.0) + wire.DEPTH_BODY.pack(1, 1, 0.0, 10, 10, 1, 0, 1, 1, 1, 1) + bomb
+    with pytest.raises(wire.WireError) as error:
+        wire.decode(msg)
+    assert error.value.kind == "bad-depth"
+
+
+def test_addresses_are_checked_and_depth_uses_the_next_port():
+    assert endpoints("tcp://10.0.0.2:6000") == ("tcp://10.0.0.2:6000", "tcp://10.0.0.2:6001")
+    with pytest.raises(ValueError, match="tcp://HOST:PORT"):
+        endpoints("localhost:5555")

@@ -1,0 +1,235 @@
+"""Real sockets, real receivers (Pure Data, oscdump) and a scripted performer for the OSC tests.
+
+The performer is an in-process Source whose frames carry ground truth; the real `truth` backend
+turns it into hands and gestures, and the real Show loop drives the `osc` effect: everything
+but the depth camera is the production path.
+"""
+from __future__ import annotations
+
+import math
+import shutil
+import socket
+import subprocess
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from pythonosc.parsing.osc_types import get_string
+from pythonosc.osc_message import OscMessage
+from pythonosc.osc_bundle import OscBundle
+
+from backends.truth import TruthBackend
+from effects.osc import OscEffect
+from host import DepthFrame, Intrinsics, Side, Source, Stage, Truth, TruthGesture
+from host.loop import EffectSlot, Limits, PacedSource, Show
+
+ROOT = Path(__file__).resolve().parents[3]
+PD_PATCH = ROOT / "patches" / "issv-receiver.pd"
+K = Intrinsics.from_fov(640, 480, 57, 43)
+FPS = 30.0
+
+
+def free_port() -> int:
+    """An ephemeral UDP port nobody holds right now (tests run in parallel)."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def hand_at(side: Side, i: int) -> tuple[float, float, float]:
+    """Where the scripted performer's hand is at frame i: both hands circle at 2 m."""
+    sign = 1 if side is Side.RIGHT else -1
+    a = i / FPS * 2 * math.pi * 0.5
+    return (sign * (250.0 + 100 * math.cos(a)), 100 * math.sin(a) + 50.0 * sign, 2000.0 + 10 * i)
+
+
+@dataclass
+class Script:
+    """Frames 1..n; `hands` gives which sides are visible at a frame; gestures by frame interval."""
+
+    n: int = 30
+    hands: callable = lambda i: (Side.LEFT, Side.RIGHT)
+    gestures: tuple[TruthGesture, ...] = (TruthGesture("wave", Side.RIGHT, 5 / FPS, 9 / FPS),
+                                          TruthGesture("swipe_left", Side.LEFT, 15 / FPS, 18 / FPS))
+
+
+class ScriptedSource(Source):
+    """A depth source made in-process (no camera here): a blank 640x480 image with ground truth."""
+
+    name = "scripted"
+
+    def __init__(self, script: Script) -> None:
+        super().__init__()
+        self.script, self.fps, self.intrinsics, self.i = script, FPS, K, 0
+        self.blank = np.zeros((480, 640), np.uint16)
+
+    def read(self) -> DepthFrame | None:
+        if self.i >= self.script.n:
+            return None
+        i, self.i = self.i, self.i + 1
+        t = i / FPS
+        truth = Truth(hands={s: hand_at(s, i) for s in self.script.hands(i)},
+                      gestures=tuple(g for g in self.script.gestures if g.start <= t < g.end))
+        return DepthFrame(self.blank, K, i, t, truth=truth)
+
+
+def make_osc(warn=None, **options) -> OscEffect:
+    effect = OscEffect(OscEffect.Options.model_validate(options))
+    if warn is not None:
+        effect.warn = warn
+    return effect
+
+
+def run_show(effects, script: Script | None = None, realtime: bool = False, fps: float = 240.0,
+             stage: Stage | None = None) -> Show:
+    """One show, start to end, on the real loop: scripted source -> truth backend -> effects."""
+    backend = TruthBackend(PacedSource(ScriptedSource(script or Script()), realtime))
+    slots = [EffectSlot(e, f"effects[{k}]") for k, e in enumerate(effects)]
+    show = Show(backend, slots, stage or Stage((1280, 720), fps, backend.name), limits=Limits())
+    show.run()
+    return show
+
+
+@dataclass
+class Packet:
+    """One received datagram, decoded: its messages as (address, type tags, arguments)."""
+
+    at: float
+    bundle: bool
+    messages: list[tuple[str, str, list]]
+
+
+def decode(data: bytes) -> tuple[bool, list[tuple[str, str, list]]]:
+    def one(dgram: bytes):
+        address, index = get_string(dgram, 0)
+        tags, _ = get_string(dgram, index)
+        return address, tags.lstrip(","), OscMessage(dgram).params
+
+    if OscBundle.dgram_is_bundle(data):
+        return True, [one(m.dgram) for m in OscBundle(data)]
+    return False, [one(data)]
+
+
+@dataclass
+class Receiver:
+    """A UDP socket on an ephemeral port that records every datagram on a thread."""
+
+    sock: socket.socket = field(default_factory=lambda: socket.socket(socket.AF_INET, socket.SOCK_DGRAM))
+    packets: list[Packet] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self.sock.bind(("127.0.0.1", 0))
+        self.sock.settimeout(0.05)
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+
+    @property
+    def address(self) -> str:
+        return f"127.0.0.1:{self.sock.getsockname()[1]}"
+
+    @property
+    def port(self) -> int:
+        return self.sock.getsockname()[1]
+
+    def _run(self) -> None:
+        while not self._stop.is_set():
+            try:
+                data = self.sock.recv(65536)
+            except (TimeoutError, socket.timeout):
+                continue
+            except OSError:
+                return
+            self.packets.append(Packet(time.time(), *decode(data)))
+
+    def wait_for(self, predicate, timeout: float = 5.0) -> bool:
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            if predicate(self):
+                return True
+            time.sleep(0.01)
+        return predicate(self)
+
+    def messages(self, address: str | None = None) -> list[tuple[str, str, list]]:
+        return [m for p in list(self.packets) for m in p.messages if address is None or m[0] == address]
+
+    def close(self) -> None:
+        self._stop.set()
+        self._thread.join(1.0)
+        self.sock.close()
+
+
+class PureData:
+    """`pd -nogui` running patches/issv-receiver.pd, listening on `port`, echoing to `echo`."""
+
+    def __init__(self, echo: Receiver, patch: Path = PD_PATCH) -> None:
+        if shutil.which("pd") is None:
+            raise RuntimeError("Pure Data is not installed: apt-get install puredata-core (scripts/setup.sh does)")
+        self.port = free_port()
+        self.echo = echo
+        self.proc = subprocess.Popen(
+            ["pd", "-nogui", "-noaudio", "-stderr", "-sleepgrain", "0.1", "-open", str(patch),
+             "-send", f"issv-listen {self.port}", "-send", f"issv-echo 127.0.0.1 {echo.port}"],
+            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if not echo.wait_for(lambda r: r.messages("/echo/ready"), timeout=10):
+            self.close()
+            raise RuntimeError(f"Pure Data did not start the patch: {self.stderr}")
+
+    @property
+    def address(self) -> str:
+        return f"127.0.0.1:{self.port}"
+
+    def close(self) -> str:
+        if self.proc.poll() is None:
+            self.proc.terminate()
+        try:
+            _, err = self.proc.communicate(timeout=5)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            _, err = self.proc.communicate()
+        self.stderr = err
+        return err
+
+
+class OscDump:
+    """liblo's `oscdump -L PORT`: its decoded lines (TIMETAG ADDRESS TYPES ARGS...)."""
+
+    def __init__(self) -> None:
+        if shutil.which("oscdump") is None:
+            raise RuntimeError("oscdump is not installed: apt-get install liblo-tools (scripts/setup.sh does)")
+        self.port = free_port()
+        self.proc = subprocess.Popen(["oscdump", "-L", str(self.port)], stdout=subprocess.PIPE,
+                                     stderr=subprocess.PIPE, text=True)
+        self.lines: list[list[str]] = []
+        threading.Thread(target=self._read, daemon=True).start()
+        probe = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        deadline = time.time() + 10
+        while not self.lines and time.time() < deadline:  # oscdump says nothing when it is ready
+            probe.sendto(b"/probe\0\0,\0\0\0", ("127.0.0.1", self.port))
+            time.sleep(0.05)
+        probe.close()
+        if not self.lines:
+            raise RuntimeError(f"oscdump did not start on port {self.port}")
+
+    def _read(self) -> None:
+        for line in self.proc.stdout:
+            if line.strip():
+                self.lines.append(line.split())
+
+    @property
+    def address(self) -> str:
+        return f"127.0.0.1:{self.port}"
+
+    def stop(self, expect: int = 0) -> list[list[str]]:
+        """The decoded lines after the probes, once `expect` of them arrived (or 5 s passed)."""
+        deadline = time.time() + 5
+        while len(self._data()) < expect and time.time() < deadline:
+            time.sleep(0.02)
+        self.proc.terminate()
+        self.proc.wait(timeout=5)
+        return self._data()
+
+    def _data(self) -> list[list[str]]:
+        return [line for line in list(self.lines) if line[1] != "/probe"]

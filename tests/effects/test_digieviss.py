@@ -1,0 +1,204 @@
+"""DigiEVISS: grab spheres by gesture, carry, release, link on touch, generate Forensic Lucid."""
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from host import (DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState,
+                  Intrinsics, Side, Stage)
+from host.assemble import make_backend, make_effects
+from host.loop import Show
+from host.profile import load
+from effects.digieviss import DigiEVISS
+from effects.digieviss import lucid
+from effects.digieviss.scene import Scene, Sphere
+
+K = Intrinsics(100, 100, 8, 6)
+RIGHT, LEFT = 1, 2
+
+LISTING_5_1 = """es
+where
+    observation o0 = ("A printed" => "very well", 1, 0, 0.85, 1234);
+    observation o1 = ("B printed" => "well", 1, 0, 0.65, 2341);
+    observation o2 = ("C printed" => "not very well", 1, 0, 0.35, 3412);
+    observation o3 = ("D printed" => "not well", 1, 0, 0.15, 4123);
+    observation sequence os1 = {o0, o3};
+    observation sequence os2 = {o1, o2};
+    evidential statement es1 = {os1, os2};
+end
+"""
+
+
+def frames(steps):
+    """Scripted hand positions and clicks at 30 Hz as the frames a backend would report."""
+    for i, (hands, clicks) in enumerate(steps, start=1):
+        t = i / 30
+        depth = DepthFrame(np.zeros((12, 16), np.uint16), K, i, t)
+        hand_objs = tuple(Hand(h, HandState.TRACKING, p, Side.RIGHT if h == RIGHT else Side.LEFT)
+                          for h, p in hands.items())
+        gestures = tuple(Gesture(GestureType.PUSH, GestureState.COMPLETE, hands[h], h, timestamp=t) for h in clicks)
+        yield Frame(i, depth.capture_time, depth, hand_objs, gestures, "script")
+
+
+def glide(hand, start, end, frames, other=None):
+    """`hand` moves in a straight line; `other` (id -> position) stays put."""
+    return [({hand: tuple(np.add(start, np.multiply(np.subtract(end, start), (k + 1) / frames))), **(other or {})}, ())
+            for k in range(frames)]
+
+
+def click(hands, hand):
+    return [(hands, (hand,))]
+
+
+def play(steps, tmp_path, **options):
+    """Every frame in order, as the show loop delivers them when it keeps up: gestures, then the frame."""
+    row = {"row_center": (0.0, 300.0, 2000.0), "spacing_mm": 400.0}  # o0..o3 at x = -600, -200, 200, 600
+    effect = DigiEVISS(DigiEVISS.Options(program=str(tmp_path / "out.ipl"), log=False, **row, **options))
+    effect.setup(Stage((64, 48), 30.0, "script"))
+    for frame in frames(steps):
+        for gesture in frame.gestures:
+            effect.on_gesture(gesture)
+        effect.on_frame(frame)
+    effect.close()
+    return effect
+
+
+def listing_5_1_script(row_y=300.0, z=2000.0):
+    """Right hand carries o3 next to o0; then both hands pick up o1 and o2 and bring them together."""
+    o0, o1, o2, o3 = [(x, row_y, z) for x in (-600.0, -200.0, 200.0, 600.0)]
+    above, drop = (-450.0, row_y + 350, z), (-450.0, row_y - 180, z)  # drop: touches o0, not o1
+    steps = glide(RIGHT, (0, 0, z), o3, 10)
+    steps += click({RIGHT: o3}, RIGHT)
+    steps += glide(RIGHT, o3, (600.0, row_y + 350, z), 10) + glide(RIGHT, (600.0, row_y + 350, z), above, 30)
+    steps += glide(RIGHT, above, drop, 20)
+    steps += click({RIGHT: drop}, RIGHT)  # let go
+    steps += glide(RIGHT, drop, (0.0, 0.0, z), 10)
+    steps += glide(LEFT, (0, 0, z), o1, 10, {RIGHT: (0.0, 0.0, z)})
+    steps += glide(RIGHT, (0, 0, z), o2, 10, {LEFT: o1})
+    steps += click({LEFT: o1, RIGHT: o2}, LEFT) + click({LEFT: o1, RIGHT: o2}, RIGHT)
+    steps += [({LEFT: (-200.0 + 8 * k, row_y, z), RIGHT: (200.0 - 8 * k, row_y, z)}, ()) for k in range(1, 20)]
+    return steps
+
+
+def test_the_thesis_scene_generates_listing_5_1(tmp_path):
+    effect = play(listing_5_1_script(), tmp_path)
+    assert (tmp_path / "out.ipl").read_text() == LISTING_5_1
+    assert effect.scene.links() == [("o0", "o3"), ("o1", "o2")]
+
+
+def test_fby_notation(tmp_path):
+    play(listing_5_1_script(), tmp_path, notation="fby")
+    text = (tmp_path / "out.ipl").read_text()
+    assert "observation sequence os1 = o0 fby o3;" in text and "observation sequence os2 = o1 fby o2;" in text
+
+
+def test_no_grab_outside_the_radius_and_no_program_without_links(tmp_path):
+    z = 2000.0
+    near_o1 = (-200.0 + 125.0, 300.0, z)  # 125 mm from o1's centre, radius 120
+    steps = glide(RIGHT, (0, 0, z), near_o1, 5) + click({RIGHT: near_o1}, RIGHT)
+    steps += glide(RIGHT, near_o1, (200.0, 300.0, z), 20)
+    effect = play(steps, tmp_path)
+    assert not effect.scene.grips and effect.scene.spheres[1].center == (-200.0, 300.0, z)
+    assert not (tmp_path / "out.ipl").exists()
+
+
+def sphere_row(n=3, radius=100.0, spacing=400.0):
+    return [Sphere(f"o{i}", f"data{i}", (i * spacing, 0.0, 2000.0), radius) for i in range(n)]
+
+
+def test_a_grabbed_sphere_follows_the_hand_without_jumping():
+    scene = Scene(sphere_row())
+    scene.update({1: (30.0, 40.0, 1900.0)}, 0.0)
+    scene.grab_or_release(1, (30.0, 40.0, 1900.0), 0.0, grab=True, release=True)
+    scene.update({1: (130.0, -60.0, 1800.0)}, 0.1)
+    assert scene.spheres[0].center == pytest.approx((100.0, -100.0, 1900.0))
+
+
+def test_release_by_gesture_then_the_sphere_stays():
+    scene = Scene(sphere_row())
+    scene.grab_or_release(1, (0.0, 0.0, 2000.0), 0.0, grab=True, release=True)
+    scene.update({1: (50.0, 0.0, 2000.0)}, 0.1)
+    scene.grab_or_release(1, (50.0, 0.0, 2000.0), 0.2, grab=True, release=True)
+    scene.update({1: (200.0, 0.0, 2000.0)}, 0.3)
+    assert not scene.grips and scene.spheres[0].center == (50.0, 0.0, 2000.0)
+
+
+def test_release_when_the_hand_is_out_of_sight_or_held_too_long():
+    scene = Scene(sphere_row(), lost_release_s=0.5, hold_timeout_s=2.0)
+    scene.grab_or_release(1, (0.0, 0.0, 2000.0), 0.0, grab=True, release=False)
+    scene.update({}, 0.4)
+    assert 1 in scene.grips  # a short occlusion does not drop it
+    scene.update({}, 0.6)
+    assert not scene.grips
+    scene.grab_or_release(2, (400.0, 0.0, 2000.0), 1.0, grab=True, release=False)
+    scene.update({2: (400.0, 0.0, 2000.0)}, 2.9)
+    assert 2 in scene.grips
+    scene.update({2: (400.0, 0.0, 2000.0)}, 3.1)
+    assert not scene.grips
+
+
+def test_links_chain_left_to_right_and_never_branch():
+    scene = Scene(sphere_row(4))
+    def carry(sphere, to, t):
+        start = scene.spheres[sphere].center
+        scene.grab_or_release(9, start, t, grab=True, release=True)
+        scene.update({9: to}, t + 0.1)
+        scene.grab_or_release(9, to, t + 0.2, grab=True, release=True)
+    carry(2, (1000.0, 0.0, 2000.0), 0.0)   # o2 touches o3 from its left (o3 at 1200)
+    carry(1, (1380.0, 0.0, 2000.0), 1.0)   # o1 to the right of o3: o2 -> o3 -> o1
+    assert scene.sequences == [["o2", "o3", "o1"]]
+    carry(0, (1100.0, 80.0, 2000.0), 2.0)  # touches o2 and o3 from above: that would branch
+    assert scene.sequences == [["o2", "o3", "o1"]]
+    carry(0, (960.0, 80.0, 2000.0), 3.0)   # left of o2, the chain's head: it grows
+    assert scene.sequences == [["o0", "o2", "o3", "o1"]]
+
+
+def test_observations_preloaded_from_a_forensic_lucid_file(tmp_path):
+    source = tmp_path / "case.ipl"
+    source.write_text(LISTING_5_1)
+    found = lucid.read_observations(source)
+    assert [o.id for o in found] == ["o0", "o1", "o2", "o3"]
+    assert found[2].data == '"C printed" => "not very well", 1, 0, 0.35, 3412'
+    assert lucid.program(found, [["o3", "o1"]]).splitlines()[-3:] == [
+        "    observation sequence os1 = {o3, o1};", "    evidential statement es1 = os1;", "end"]
+
+
+def test_bad_options_and_files_say_what_to_fix(tmp_path):
+    from host.errors import UserError
+    with pytest.raises(ValueError, match="expected one of wave, click"):
+        DigiEVISS.Options(grab_gesture="pinch")
+    with pytest.raises(ValueError, match="either `spheres` or `observations`"):
+        DigiEVISS.Options(observations="x.ipl", spheres=[{"evidence": "a", "value": "b"}])
+    empty = tmp_path / "empty.ipl"
+    empty.write_text("es where end\n")
+    with pytest.raises(UserError, match="no `observation oN"):
+        lucid.read_observations(empty)
+
+
+ROOT = Path(__file__).resolve().parents[2]
+PROFILE = ROOT / "profiles" / "digieviss.toml"
+
+
+def test_the_profile_plays_the_synthetic_choreography_into_listing_5_1(tmp_path):
+    """The interface of issue 8: `issv run profiles/digieviss.toml --headless` writes digieviss.ipl here."""
+    run = subprocess.run([sys.executable, "-m", "host", "run", str(PROFILE), "--headless", "--fast"],
+                         cwd=tmp_path, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert (tmp_path / "digieviss.ipl").read_text() == LISTING_5_1
+    assert "linked o0 -> o3" in run.stdout and "released o3 (release gesture)" in run.stdout
+
+
+def test_without_a_renderer_and_with_the_program_path_from_the_profile(tmp_path):
+    """No GL at all: the synthetic performer through the truth backend, in-process."""
+    profile = tmp_path / "show.toml"
+    text = PROFILE.read_text().replace('name = "digieviss"\n#', 'name = "digieviss"\nprogram = "out/case.ipl"\n#')
+    profile.write_text(text.replace('[[effects]]\nname = "hand-trails"\n', ""))
+    (tmp_path / "out").mkdir()
+    prof = load(profile)
+    effects = make_effects(prof)
+    show = Show(make_backend(prof, realtime=False), effects, Stage((64, 48), 1000.0, "truth"))
+    show.run()
+    assert show.stage.ctx is None and effects[0].effect.view is None
+    assert (tmp_path / "out" / "case.ipl").read_text() == LISTING_5_1

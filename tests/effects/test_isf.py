@@ -1,0 +1,113 @@
+"""`isf`: ISF shaders run with their inputs bound to hands, gestures and depth; a broken shader is
+one clear error naming its file and line, and the other layers keep rendering."""
+import pytest
+
+from effects.depth_view import DepthView
+from effects.isf import Isf, IsfError, IsfShader
+from tests.host.render.stage import frames_with_hand, gesture_at, lit, requires_gl, run_show
+
+SIZE = (320, 240)
+HAND = (-300.0, 200.0, 2000.0)
+
+GOOD_HEADER = """/*{
+    "ISFVSN": "2",
+    "INPUTS": [
+        {"NAME": "where", "TYPE": "point2D", "DEFAULT": [0, 0]},
+        {"NAME": "age", "TYPE": "float", "DEFAULT": 10000.0}
+    ]
+}*/
+"""
+
+
+def write(tmp_path, name, text):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def isf(**options):
+    return Isf(Isf.Options(**options))
+
+
+@requires_gl
+def test_a_shader_that_does_not_compile_names_file_and_line_and_the_others_keep_rendering(tmp_path, capsys):
+    broken = write(tmp_path, "broken.fs", GOOD_HEADER + "void main() {\n    vec4 c = vec4(1.0)\n    gl_FragColor = c;\n}\n")
+    error_line = GOOD_HEADER.count("\n") + 3  # the statement after the missing semicolon
+    frames = frames_with_hand([HAND] * 3)
+    image, show, _ = run_show([DepthView(DepthView.Options()), isf(file=str(broken))], frames, tmp_path, SIZE)
+    err = capsys.readouterr().err
+    assert err.count(f"{broken}:{error_line}:") == 1, err
+    assert "syntax error" in err and "disabled" in err
+    assert [s.enabled for s in show.effects] == [True, False]
+    assert image[120, 160].max() > 100  # the depth view's performer box is still drawn
+
+
+def test_a_header_that_is_not_json_names_file_and_line(tmp_path):
+    path = write(tmp_path, "bad.fs", '/*{\n  "INPUTS": [\n    {"NAME": "x" "TYPE": "float"}\n  ]\n}*/\nvoid main() {}\n')
+    with pytest.raises(IsfError, match=rf"{path}:3: the ISF header is not valid JSON"):
+        IsfShader(path)
+
+
+def test_multi_pass_shaders_are_refused_with_the_reason(tmp_path):
+    path = write(tmp_path, "passes.fs", '/*{"PASSES": [{"TARGET": "a"}, {}]}*/\nvoid main() {}\n')
+    with pytest.raises(IsfError, match="single-pass"):
+        IsfShader(path)
+
+
+@requires_gl
+def test_binding_an_input_the_shader_does_not_have_is_refused(tmp_path, capsys):
+    path = write(tmp_path, "ok.fs", GOOD_HEADER + "void main() { gl_FragColor = vec4(1.0); }\n")
+    _, show, _ = run_show([isf(file=str(path), bind={"nowhere": "hand.right"})], frames_with_hand([HAND]), tmp_path, SIZE)
+    assert "has no input 'nowhere'" in capsys.readouterr().err
+    assert not show.effects[0].enabled
+
+
+def test_exactly_one_of_shader_or_file():
+    with pytest.raises(ValueError, match="exactly one"):
+        Isf.Options()
+    with pytest.raises(ValueError, match="no shipped ISF shader"):
+        Isf.Options(shader="nope")
+
+
+@requires_gl
+@pytest.mark.parametrize("scale", [1.0, 0.5])
+def test_hand_glow_shines_where_the_hand_is(tmp_path, scale):
+    frames = frames_with_hand([HAND] * 3)
+    effect = isf(shader="hand-glow", bind={"handA": "hand.right"}, scale=scale)
+    image, _, stage = run_show([effect], frames, tmp_path, SIZE)
+    hand = stage.to_stage(HAND, frames[-1].depth)
+    assert lit(image, hand, 2).max() > 200
+    far = (SIZE[0] - 20, SIZE[1] - 20)
+    assert lit(image, far, 2).max() < 60
+
+
+@requires_gl
+def test_depth_contours_draw_only_where_there_is_depth(tmp_path):
+    image, _, _ = run_show([isf(shader="depth-contours", bind={"depthImage": "depth"})],
+                           frames_with_hand([HAND] * 3), tmp_path, SIZE)
+    box = image[40:220, 120:200]  # the performer box (depth pixels 60..100 x 20..110, doubled)
+    assert box.max() > 100
+    assert image[:, :110].max() == 0 and image[:, 210:].max() == 0
+
+
+@requires_gl
+def test_a_gesture_binding_fires_where_the_gesture_happened(tmp_path):
+    shader = write(tmp_path, "g.fs", GOOD_HEADER + """
+void main() {
+    float near = step(distance(isf_FragNormCoord * RENDERSIZE, where), 6.0);
+    gl_FragColor = vec4(near * step(age, 5.0), 0.0, 0.0, 1.0);
+}
+""")
+    effect = isf(file=str(shader), bind={"where": "gesture", "age": "gesture.wave.age"}, scale=1.0)
+    quiet = run_show([effect], frames_with_hand([HAND] * 4), tmp_path, SIZE)[0]
+    assert quiet.max() == 0  # no wave yet: nothing
+    swipe = {2: [gesture_at("swipe_left", HAND)]}
+    assert run_show([isf(file=str(shader), bind={"where": "gesture", "age": "gesture.wave.age"})],
+                    frames_with_hand([HAND] * 4, swipe), tmp_path, SIZE)[0].max() == 0
+    waved = {2: [gesture_at("wave", HAND)]}
+    effect = isf(file=str(shader), bind={"where": "gesture", "age": "gesture.wave.age"}, scale=1.0)
+    image, _, stage = run_show([effect], frames_with_hand([HAND] * 4, waved), tmp_path, SIZE)
+    x, y = stage.to_stage(HAND, frames_with_hand([HAND])[0].depth)
+    # ISF's point2D is in pixels from the bottom-left: the red dot is at the hand, image row y.
+    assert lit(image, (x, y), 2)[2] == 255
+    assert image[:, :, 2].sum() / 255 < 200  # a small dot, nothing else

@@ -1,0 +1,144 @@
+"""The MCAP recording: readable by standard MCAP tools, readable up to the cut when cut short,
+and a clear error with the byte offset when damaged."""
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from mcap.reader import make_reader
+
+from backends.truth import TruthBackend
+from host.errors import UserError
+from host.recording import Recording, RecordingWriter
+from host.recording import codec
+from sources.recording import RecordingSource, RecordingSourceOptions
+from tests.recordings import SYNTH, as_tracked, record, tracked_live, write_profile
+
+
+@pytest.fixture(scope="module")
+def recording(tmp_path_factory):
+    return record(tmp_path_factory.mktemp("rec"), seconds=3.0)
+
+
+def write(path: Path, frames) -> Path:
+    with RecordingWriter(path, {"test": "yes"}) as writer:
+        for frame in frames:
+            writer.write_frame(frame)
+    return path
+
+
+def test_standard_mcap_readers_see_the_documented_channels(recording):
+    with open(recording, "rb") as f:
+        reader = make_reader(f)
+        summary = reader.get_summary()
+        channels = {c.topic: c for c in summary.channels.values()}
+        assert set(channels) == {codec.DEPTH, codec.HANDS, codec.GESTURES, codec.METRICS}
+        assert channels[codec.HANDS].message_encoding == "json"
+        assert summary.schemas[channels[codec.GESTURES].schema_id].encoding == "jsonschema"
+        counts = {channels_by_id.topic: n for channels_by_id, n in
+                  ((summary.channels[cid], n) for cid, n in summary.statistics.channel_message_counts.items())}
+        hands = [json.loads(m.data) for _, _, m in reader.iter_messages(topics=[codec.HANDS])]
+    live = tracked_live(3.0)
+    assert counts[codec.HANDS] == len(live) == len(hands) and counts[codec.DEPTH] == len(live)
+    assert counts[codec.GESTURES] == sum(len(f.gestures) for f in live) > 0
+    assert [h["seq"] for h in hands] == [f.seq for f in live]
+    assert hands[5]["hands"][0]["position"] == list(live[5].hands[0].position)
+
+
+def test_metrics_and_metadata_are_recorded(recording):
+    with Recording(recording) as rec:
+        assert rec.complete and rec.truncated_at is None
+        assert rec.meta["format"] == codec.FORMAT and rec.meta["backend"] == "truth"
+        assert rec.meta["source"] == "synthetic"
+        final = rec.metrics()[-1]
+    assert final["final"] is True and final["frames"] == len(tracked_live(3.0)) and final["sfps"] > 0
+
+
+def test_a_recording_is_a_source_with_the_same_depth_and_truth(recording):
+    source = RecordingSource(RecordingSourceOptions(path=str(recording)))
+    with TruthBackend(source) as backend:
+        retracked = []
+        while (frame := backend.update()) is not None:
+            retracked.append(frame)
+    live = tracked_live(3.0)
+    assert source.fps == pytest.approx(30.0) and source.intrinsics == live[0].depth.intrinsics
+    # re-tracking the recorded depth (and its recorded truth) reproduces the live run
+    assert [(f.hands, f.gestures) for f in retracked[:len(live)]] == [(f.hands, f.gestures) for f in live]
+    assert np.array_equal(retracked[10].depth.data, live[10].depth.data)
+
+
+def test_a_truncated_file_is_read_up_to_the_cut(tmp_path):
+    live = tracked_live(3.0)
+    whole = write(tmp_path / "whole.mcap", live)
+    data = whole.read_bytes()
+    for fraction in (0.3, 0.7, 0.95):
+        cut = tmp_path / f"cut{fraction}.mcap"
+        cut.write_bytes(data[: int(len(data) * fraction)])
+        warnings = []
+        with Recording(cut, warn=warnings.append) as rec:
+            frames = list(rec.frames())
+            assert not rec.complete and rec.truncated_at is not None and rec.truncated_at <= len(data) * fraction
+        assert 0 < len(frames) < len(live)
+        assert as_tracked(frames) == as_tracked(live[: len(frames)])
+        assert len(warnings) == 1 and f"byte {rec.truncated_at}" in warnings[0]
+
+
+def test_a_recording_killed_mid_show_is_readable(tmp_path):
+    prof = write_profile(tmp_path / "p.toml", {"name": "synthetic", **SYNTH})
+    out = tmp_path / "crash.mcap"
+    proc = subprocess.Popen([sys.executable, "-m", "host", "record", str(prof), "-o", str(out)],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.time() + 60
+        while time.time() < deadline and (not out.exists() or out.stat().st_size < 100_000):
+            time.sleep(0.1)
+    finally:
+        os.kill(proc.pid, signal.SIGKILL)
+        proc.wait()
+    with Recording(out, warn=lambda _: None) as rec:
+        frames = list(rec.frames())
+        assert not rec.complete
+    assert len(frames) > 10
+    assert as_tracked(frames) == as_tracked(tracked_live(10.0)[: len(frames)])
+
+
+def test_corrupt_data_names_the_byte_offset(tmp_path):
+    path = write(tmp_path / "ok.mcap", tracked_live(1.0))
+    data = bytearray(path.read_bytes())
+    middle = len(data) // 2
+    data[middle: middle + 64] = bytes(64)  # zeroes inside a chunk: its CRC no longer matches
+    bad = tmp_path / "bad.mcap"
+    bad.write_bytes(bytes(data))
+    with pytest.raises(UserError, match=r"corrupt recording at byte (\d+)") as caught:
+        with Recording(bad) as rec:
+            list(rec.frames())
+    offset = int(caught.value.args[0].split("at byte ")[1].split()[0])
+    assert 8 <= offset <= middle and str(bad) in str(caught.value)
+
+
+def test_garbage_instead_of_a_record_is_corruption_not_truncation(tmp_path):
+    path = write(tmp_path / "ok.mcap", tracked_live(0.5))
+    with Recording(path) as rec:
+        first_chunk = next(r.offset for r in rec._records(8) if r.opcode == 0x06)
+    data = bytearray(path.read_bytes())
+    data[first_chunk] = 0x7F  # not an MCAP record type
+    path.write_bytes(bytes(data))
+    with pytest.raises(UserError, match=f"corrupt recording at byte {first_chunk}: unknown MCAP record type 0x7f"):
+        with Recording(path, warn=lambda _: None) as rec:
+            list(rec.frames())
+
+
+def test_not_a_recording(tmp_path):
+    other = tmp_path / "clip.npz"
+    other.write_bytes(b"PK\x03\x04 not mcap at all")
+    with pytest.raises(UserError, match="not an MCAP recording"):
+        Recording(other)
+    with pytest.raises(UserError, match="no such recording"):
+        Recording(tmp_path / "missing.mcap")

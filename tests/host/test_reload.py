@@ -1,0 +1,126 @@
+"""Live reload: edits to the running profile and to an effect's source reach a real `issv run`
+without stopping it; a broken edit keeps the previous version running and says why in one line."""
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from tests.conftest import write_clip
+
+PROBE = '''
+from pathlib import Path
+from pydantic import BaseModel, ConfigDict
+from host import Effect, hookimpl
+
+VERSION = "{version}"
+
+
+class ProbeOptions(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    label: str = "a"
+    out: str
+
+
+class Probe(Effect):
+    """Writes which code and which options are running, every frame."""
+    name = "probe"
+    Options = ProbeOptions
+
+    def on_frame(self, frame):
+        Path(self.options.out).write_text(f"{{VERSION}} {{self.options.label}} {{frame.seq}}")
+
+
+@hookimpl
+def register_effects(register):
+    register(Probe)
+'''
+
+
+def write_plugin(root: Path, version: str) -> Path:
+    module = root / "reload_probe.py"
+    module.write_text(PROBE.format(version=version))
+    dist = root / "reload_probe-1.0.dist-info"
+    dist.mkdir(exist_ok=True)
+    (dist / "METADATA").write_text("Metadata-Version: 2.1\nName: reload-probe\nVersion: 1.0\n")
+    (dist / "entry_points.txt").write_text("[issv]\nprobe = reload_probe\n")
+    return module
+
+
+def write_profile(path: Path, clip: Path, out: Path, label: str) -> None:
+    path.write_text(f'backend = "truth"\n[source]\nname = "clip"\npath = "{clip}"\nloop = true\n'
+                    f'[[effects]]\nname = "probe"\nout = "{out}"\nlabel = {label}\n'
+                    f'[output]\nmode = "headless"\nhud = false\n')
+
+
+def wait_for(out: Path, prefix: str, timeout: float = 10.0) -> tuple[float, int]:
+    """Seconds until the running show reports `prefix`, and the frame it said it then."""
+    start = time.monotonic()
+    while time.monotonic() - start < timeout:
+        try:
+            text = out.read_text()
+        except FileNotFoundError:
+            text = ""
+        if text.startswith(prefix + " "):
+            return time.monotonic() - start, int(text.split()[-1])
+        time.sleep(0.02)
+    raise AssertionError(f"the show never reported {prefix!r}; last: {text!r}")
+
+
+def test_profile_and_source_edits_reach_the_running_show(tmp_path):
+    clip = write_clip(tmp_path / "clip.npz", frames=30)
+    module = write_plugin(tmp_path, "v1")
+    out, profile, log = tmp_path / "probe.txt", tmp_path / "show.toml", tmp_path / "stderr.txt"
+    write_profile(profile, clip, out, '"a"')
+    env = {**os.environ, "PYTHONPATH": str(tmp_path)}
+    with log.open("w") as err:
+        show = subprocess.Popen([sys.executable, "-m", "host", "run", str(profile), "--headless"],
+                                stdout=subprocess.DEVNULL, stderr=err, env=env)
+    try:
+        _, first = wait_for(out, "v1 a", timeout=30.0)
+
+        write_profile(profile, clip, out, '"b"')  # the profile
+        _, frame = wait_for(out, "v1 b")
+        assert frame > first  # the same show, still going
+
+        module.write_text(PROBE.format(version="v2"))  # the effect's source
+        _, frame = wait_for(out, "v2 b")
+
+        module.write_text(PROBE.format(version="v3").replace("class Probe(Effect):", "class Probe(Effect"))
+        write_profile(profile, clip, out, "5")  # then a bad value in the profile
+        time.sleep(1.5)
+        _, later = wait_for(out, "v2 b")
+        assert later > frame  # the previous version kept running
+        errors = [line for line in log.read_text().splitlines() if "reload failed" in line]
+        assert any("reload_probe: SyntaxError" in line and "line" in line for line in errors), errors
+
+        write_profile(profile, clip, out, '"c"')  # fixing the profile alone is not enough...
+        module.write_text(PROBE.format(version="v3"))  # ...until the source is fixed too
+        wait_for(out, "v3 c")
+        assert show.poll() is None
+    finally:
+        show.send_signal(signal.SIGINT)
+        code = show.wait(timeout=20)
+    assert code == 0, log.read_text()
+    text = log.read_text()
+    assert "issv: reloaded reload_probe: 1 effect(s) rebuilt, 0 kept" in text
+    assert all(len(line) < 300 for line in text.splitlines() if "reload" in line)
+
+
+def test_no_reload_flag_ignores_edits(tmp_path):
+    clip = write_clip(tmp_path / "clip.npz", frames=30)
+    write_plugin(tmp_path, "v1")
+    out, profile = tmp_path / "probe.txt", tmp_path / "show.toml"
+    write_profile(profile, clip, out, '"a"')
+    env = {**os.environ, "PYTHONPATH": str(tmp_path)}
+    show = subprocess.Popen([sys.executable, "-m", "host", "run", str(profile), "--headless", "--no-reload"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env, text=True)
+    try:
+        wait_for(out, "v1 a", timeout=30.0)
+        write_profile(profile, clip, out, '"b"')
+        time.sleep(1.5)
+        wait_for(out, "v1 a")
+    finally:
+        show.send_signal(signal.SIGINT)
+        show.wait(timeout=20)
