@@ -50,7 +50,8 @@ def host_overhead(n_effects: int, frames: int = 3000) -> list[float]:
         show.metrics.sensor_frame(frame)          # what the sensor thread does per frame
         show.gestures.put_all(frame.gestures)
         show.latest.publish(frame)
-        count = show._tick(count)                 # what the show loop does per frame
+        count = show._deliver(count)              # what the show loop does per frame
+        show._render()
         per_frame.append((time.perf_counter() - t0) * 1e6)
     return per_frame[100:]
 

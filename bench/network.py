@@ -6,6 +6,9 @@ both on loopback. 100 Mbit/s: two network namespaces joined by a veth pair shape
 rate 100mbit` on both ends (needs root; skipped with the reason otherwise). Also measured: the
 lossless depth codecs (which one `issv serve` uses by default, and why).
 
+The machine's load average is reported with each row: on a shared machine, p99 latencies and
+newest-wins depth drops measure CPU starvation as much as the network.
+
 Targets (issue 9): 0 % depth loss at 30 Hz 640x480 over 100 Mbit/s (thesis, ROS: 35 %); gestures
 and hands 0 % lost and <= 2 ms p99 on loopback; depth latency <= 1.3 x the time the link needs to
 carry one compressed frame.
@@ -229,7 +232,7 @@ def run_case(transport: str, shaped: bool, seconds: float) -> dict:
     """One row: publisher and subscriber processes over loopback or the shaped veth pair."""
     link = LinkPair() if shaped else None
     procs: list[subprocess.Popen] = []
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    env = {"ROS_HOME": "/tmp/issv-bench-ros", **os.environ, "PYTHONPATH": str(ROOT)}
     try:
         pre_a = pre_b = []
         host_a = "127.0.0.1"
@@ -284,7 +287,8 @@ def _row(transport: str, shaped: bool, sent: dict, got: dict) -> dict:
     frame_bytes = (sent["depth_bytes"] / sent["sent"]["depth"]) if sent.get("depth_bytes") else 640 * 480 * 2
     carry_ms = frame_bytes * 8 / RATE_BPS * 1000 if shaped else None
     return {"transport": transport, "link": "100 Mbit/s" if shaped else "loopback", "offered": offered,
-            "loss_pct": loss, "latency_ms": {k: s[k]["latency_ms"] for k in s},
+            "loss_pct": loss, "depth_skipped_by_publisher": sent.get("depth_skipped", 0),
+            "load_average": round(os.getloadavg()[0], 2), "latency_ms": {k: s[k]["latency_ms"] for k in s},
             "depth_frame_kB": round(frame_bytes / 1000, 1), "carry_ms": carry_ms and round(carry_ms, 2),
             "depth_latency_over_carry": (round(s["depth"]["latency_ms"]["p50"] / carry_ms, 2)
                                      if carry_ms and s["depth"]["received"] else None),
@@ -335,18 +339,23 @@ def table_main(args: argparse.Namespace) -> int:
     figures = {"cases": rows, "codecs": codecs, "notes": notes, "seconds": args.seconds,
                "thesis_table16": {"100 Mbps": {"depth": 35, "gesture": 0, "hands": 0},
                                   "1 Gbps": {"depth": 0, "gesture": 0, "hands": 0}}}
-    columns = ["transport", "link", "depth loss %", "gesture loss %", "hand loss %", "depth p50/p99 ms",
-               "gesture p50/p99 ms", "hands p50/p99 ms", "depth kB", "latency / carry"]
+    columns = ["", "link", "loss %", "depth ms", "gest ms", "hand ms", "kB", "x carry", "load"]
+
     def lat(r: dict, k: str) -> str:
         t = r["latency_ms"][k]
-        return "-" if t["p50"] is None else f"{t['p50']:.1f} / {t['p99']:.1f}"
+        return "-" if t["p50"] is None else f"{t['p50']:.1f}/{t['p99']:.1f}"
 
-    table = [[r["transport"], r["link"], r["loss_pct"]["depth"], r["loss_pct"]["gestures"], r["loss_pct"]["hands"],
-              lat(r, "depth"), lat(r, "gestures"), lat(r, "hands"), r["depth_frame_kB"],
-              r["depth_latency_over_carry"] if r["depth_latency_over_carry"] is not None else "-"] for r in rows]
-    table += [["thesis ROS", "100 Mbps", 35, 0, 0, "-", "-", "-", 614.4, "-"],
-              ["thesis ROS", "1 Gbps", 0, 0, 0, "16 (mean)", "-", "-", 614.4, "-"]]
-    report("Table 16, side by side (30 Hz, 640x480)", figures, table, columns, args.json)
+    def loss(r: dict) -> str:
+        return "/".join("-" if r["loss_pct"][k] is None else f"{r['loss_pct'][k]:g}" for k in ("depth", "gestures", "hands"))
+
+    table = [[r["transport"], "100M" if r["link"] != "loopback" else "lo", loss(r), lat(r, "depth"),
+              lat(r, "gestures"), lat(r, "hands"), f"{r['depth_frame_kB']:.0f}",
+              f"{r['depth_latency_over_carry']:.2f}" if r["depth_latency_over_carry"] is not None else "-",
+              f"{r['load_average']:.1f}"] for r in rows]
+    table += [["thesis", "100M", "35/0/0", "-", "-", "-", "614", "-", "-"],
+              ["thesis", "1G", "0/0/0", "16 mean", "-", "-", "614", "-", "-"]]
+    report("Table 16 side by side, 30 Hz 640x480 (loss % depth/gesture/hands, ms p50/p99)", figures, table,
+           columns, args.json)
     if not args.json:
         report("lossless depth codecs", {}, [list(r.values()) for r in codecs], list(codecs[0]), False)
         for note in notes:

@@ -8,7 +8,9 @@ Pure Data running patches/issv-receiver.pd, which echoes every frame back to thi
 - capture -> sent: until the effect's bundle left the socket (time.time() after sending);
 - capture -> Pd echo: until Pd's echo of that frame came back: an upper bound of capture ->
   Pd receiving (it adds Pd's reply over loopback);
-- Pd round trip: sent -> echo back.
+- Pd round trip: sent -> echo back;
+- and, to show where the time goes: capture -> the backend's update() returned (tracking), and
+  from there -> sent (the host's hand-off and the effect).
 
 Target (issue 6): p99 <= 5 ms from capture to Pd receiving.
 """
@@ -85,6 +87,21 @@ class Echoes:
         self.sock.close()
 
 
+def time_updates(backend) -> dict[int, float]:
+    """Notes when the backend's update() returned each frame (seq -> time.time())."""
+    done: dict[int, float] = {}
+    update = backend.update
+
+    def timed():
+        frame = update()
+        if frame is not None:
+            done[frame.seq] = time.time()
+        return frame
+
+    backend.update = timed
+    return done
+
+
 def free_port() -> int:
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
         s.bind(("127.0.0.1", 0))
@@ -118,6 +135,7 @@ def run(seconds: float, fps: float | None, backend: str | None) -> dict:
         show_fps = fps or profile.model.output.fps
         source_fps = float(profile.source.options.fps) if profile.source is not None else 30.0
         backend_obj = make_backend(profile, realtime=True)
+        tracked = time_updates(backend_obj)
         show = Show(backend_obj, [EffectSlot(effect, "effects[0]")], Stage((640, 480), show_fps, backend_obj.name),
                     limits=Limits(frames=int(seconds * source_fps)))
         metrics = show.run()
@@ -129,12 +147,16 @@ def run(seconds: float, fps: float | None, backend: str | None) -> dict:
     sent = effect.sent
     to_sent = [(s - c) * 1000 for c, s in sent.values()]
     to_pd = [(echoes.frames[q] - c) * 1000 for q, (c, _) in sent.items() if q in echoes.frames]
+    tracking = [(tracked[q] - c) * 1000 for q, (c, _) in sent.items()]
+    hand_off = [(s - tracked[q]) * 1000 for q, (_, s) in sent.items()]
     round_trip = [(echoes.frames[q] - s) * 1000 for q, (_, s) in sent.items() if q in echoes.frames]
     figures = {
         "backend": backend_obj.name, "source_fps": source_fps, "show_fps": show_fps,
         "sfps": round(metrics.sfps, 2), "frames": metrics.frames, "bundles_sent": len(sent),
         "frames_echoed": len(to_pd), "gestures_sent": sum(metrics.gestures_by_name.values()),
         "gesture_messages_echoed": echoes.gestures,
+        "capture_to_tracked_ms": percentiles(tracking, (50, 99)),
+        "tracked_to_sent_ms": percentiles(hand_off, (50, 99)),
         "capture_to_sent_ms": percentiles(to_sent, (50, 99)),
         "capture_to_pd_ms": percentiles(to_pd, (50, 99)),
         "pd_round_trip_ms": percentiles(round_trip, (50, 99)),
@@ -152,6 +174,8 @@ def main() -> None:
         p.add_argument("--backend", help="backend to use instead of the profile's")))
     f = run(args.seconds, args.fps, args.backend)
     rows = [[name, f[key]["p50"], f[key]["p99"]] for name, key in (
+        ("capture -> tracked (backend update)", "capture_to_tracked_ms"),
+        ("tracked -> OSC sent (host + effect)", "tracked_to_sent_ms"),
         ("capture -> OSC sent", "capture_to_sent_ms"), ("capture -> Pd (echo back)", "capture_to_pd_ms"),
         ("Pd round trip (sent -> echo)", "pd_round_trip_ms"))]
     rows.append([f"{f['backend']}, {f['source_fps']:.0f} Hz source, show loop {f['show_fps']:.0f} Hz, "

@@ -64,8 +64,8 @@ class IsfOptions(BaseModel):
     file: ProfilePath | None = Field(None, description="an ISF .fs file of your own")
     bind: dict[str, str] = Field(default_factory=dict, description="ISF input name -> hands/gestures/depth")
     values: dict[str, float | bool | list[float]] = Field(default_factory=dict, description="fixed input values")
-    scale: float = Field(0.5, gt=0, le=1, description="render resolution, fraction of the output: soft "
-                         "procedural shaders look the same at 0.5 for a quarter of the pixels")
+    scale: float = Field(1.0, gt=0, le=1, description="render resolution, fraction of the output: a heavy, "
+                         "soft shader looks the same at 0.5 for a quarter of the work (plus one stretch pass)")
 
     @model_validator(mode="after")
     def _one_shader(self) -> "IsfOptions":
@@ -74,6 +74,10 @@ class IsfOptions(BaseModel):
         if self.shader is not None and not (SHADERS / f"{self.shader}.fs").is_file():
             known = ", ".join(sorted(p.stem for p in SHADERS.glob("*.fs")))
             raise ValueError(f"no shipped ISF shader {self.shader!r}; expected one of {known}")
+        try:  # the header and the bindings are checked with the profile (`issv check`)
+            check_bindings(IsfShader(self.path), self.bind, self.values)
+        except IsfError as error:
+            raise ValueError(str(error)) from None
         return self
 
     @property
@@ -161,8 +165,8 @@ class Isf(Effect):
 
     def setup(self, stage: Stage) -> None:
         super().setup(stage)
-        self.shader = IsfShader(self.options.path)
-        self._check_bindings()
+        self.shader = IsfShader(self.options.path)  # again: live reload may have changed the file
+        check_bindings(self.shader, self.options.bind, self.options.values)
         ctx = stage.ctx
         self.quad = self.shader.compile(ctx)
         self.prog = self.quad.prog
@@ -176,16 +180,6 @@ class Isf(Effect):
         self.frames = 0
         for name, value in {**self.shader.defaults, **self.options.values}.items():
             self._set(name, value)
-
-    def _check_bindings(self) -> None:
-        inputs, path = self.shader.inputs, self.shader.path
-        for name, value in {**self.options.bind, **self.options.values}.items():
-            if name not in inputs:
-                raise IsfError(f"{path}: has no input {name!r} to bind or set (inputs: {', '.join(inputs) or 'none'})")
-        for name, source in self.options.bind.items():
-            if not _valid_source(inputs[name], source):
-                raise IsfError(f"{path}: input {name!r} ({inputs[name]}) cannot be bound to {source!r}; "
-                               "see the isf effect's bindings in the README")
 
     def _set(self, name: str, value: Any) -> None:
         uniform = self.prog.get(name, None)
@@ -271,6 +265,18 @@ class Isf(Effect):
         for name in ("quad", "blank", "offscreen"):
             if getattr(self, name, None) is not None:
                 getattr(self, name).release()
+
+
+def check_bindings(shader: IsfShader, bind: dict[str, str], values: dict[str, Any]) -> None:
+    """Every bound or set input exists, and each binding suits its input's type."""
+    inputs, path = shader.inputs, shader.path
+    for name in {**bind, **values}:
+        if name not in inputs:
+            raise IsfError(f"{path}: has no input {name!r} to bind or set (inputs: {', '.join(inputs) or 'none'})")
+    for name, source in bind.items():
+        if not _valid_source(inputs[name], source):
+            raise IsfError(f"{path}: input {name!r} ({inputs[name]}) cannot be bound to {source!r}; "
+                           "see the isf effect's bindings in the README")
 
 
 def _valid_source(kind: str, source: str) -> bool:

@@ -13,18 +13,16 @@ from host.options import Color
 
 FRAGMENT = """
 #version 330
-uniform sampler2D depth;   // metres, 0 = no reading
-uniform sampler2D mask;    // 1 = performer
-uniform bool use_mask;
-uniform float near;
+uniform sampler2D image;   // the user mask (1 = performer), or depth in metres (0 = no reading)
+uniform float near;        // depth band, metres: used when the image is depth
 uniform float far;
 uniform vec3 tint;
 uniform float alpha;
 in vec2 uv;
 out vec4 color;
 void main() {
-    float d = texture(depth, uv).r;
-    float inside = use_mask ? step(0.5, texture(mask, uv).r) : float(d >= near && d <= far);
+    float v = texture(image, uv).r;
+    float inside = MASK ? step(0.5, v) : float(v >= near && v <= far);
     float a = alpha * inside;
     color = vec4(tint * a, a);
 }
@@ -53,19 +51,22 @@ class Silhouette(Effect):
 
     def setup(self, stage: Stage) -> None:
         super().setup(stage)
-        self.quad = DepthQuad(stage.ctx, FRAGMENT)
-        prog, o = self.quad.prog, self.options
-        prog["near"], prog["far"] = o.near_mm / 1000, o.far_mm / 1000
-        prog["tint"], prog["alpha"] = o.color, o.alpha
+        # One program per input, so each pixel fetches one texture (llvmpipe pays per fetch).
+        self.quads = {kind: DepthQuad(stage.ctx, FRAGMENT.replace("MASK", kind)) for kind in ("true", "false")}
+        o = self.options
+        for quad in self.quads.values():
+            prog = quad.prog
+            for name, value in (("near", o.near_mm / 1000), ("far", o.far_mm / 1000), ("tint", o.color), ("alpha", o.alpha)):
+                if prog.get(name, None) is not None:
+                    prog[name].value = value
 
     def render(self, target) -> None:
-        depth = target.depth_texture()
-        if depth is None:
-            return
         mask = target.mask_texture()
-        self.quad.prog["use_mask"] = mask is not None
-        self.quad.draw(target, self.stage, target.frame.depth, {"depth": depth, "mask": mask if mask is not None else depth})
+        image = mask if mask is not None else target.depth_texture()
+        if image is not None:
+            quad = self.quads["true" if mask is not None else "false"]
+            quad.draw(target, self.stage, target.frame.depth, {"image": image})
 
     def close(self) -> None:
-        if hasattr(self, "quad"):
-            self.quad.release()
+        for quad in getattr(self, "quads", {}).values():
+            quad.release()

@@ -172,8 +172,8 @@ class Show:
     def _running(self) -> list[EffectSlot]:
         return [s for s in self.effects if s.enabled]
 
-    def _tick(self, last_count: int) -> int:
-        """One show-loop iteration: gestures first (all of them), then the newest frame, then render."""
+    def _deliver(self, last_count: int) -> int:
+        """Event-driven: every pending gesture (all of them, in order), then the newest frame."""
         for gesture in self.gestures.drain():
             self.metrics.gesture(gesture)
             for slot in self._running():
@@ -182,12 +182,16 @@ class Show:
         if frame is not None and count != last_count:
             for slot in self._running():
                 self._call(slot, "on_frame", frame)
-        if self.renderer is not None:
-            self.renderer.render(self, frame)
-        if frame is not None and count != last_count:
             self.metrics.delivered(frame, skipped=count - last_count - 1)
-        self.metrics.rendered_frame()
         return count
+
+    def _render(self) -> None:
+        """Paced at the output rate: draw the newest frame (or just count the tick when nothing draws)."""
+        if self.renderer is not None:
+            self.renderer.render(self, self.latest.take()[0])
+        self.metrics.rendered_frame()
+        if self.status is not None:
+            self.status(self)
 
     def run(self) -> Metrics:
         for slot in self.effects:
@@ -236,32 +240,24 @@ class Show:
         self.effects = slots
 
     def _show_loop(self) -> None:
-        """Tick at the output rate, and at once when the sensor publishes (low latency), but never
-        sooner than half a period after the previous tick (the output rate stays the cap)."""
+        """Deliver as soon as the sensor publishes (low latency for OSC and friends); render at the
+        output rate. After the sensor ends, everything pending is delivered and rendered once more."""
         period = 1.0 / self.stage.fps
-        count = 0
-        last_tick = 0.0
+        count = rendered_count = 0
+        next_render = time.perf_counter()
         while not self._stop.is_set():
-            done = self._sensor_done.is_set()  # read before the tick so the last frame is delivered
+            done = self._sensor_done.is_set()  # read before delivering so the last frame gets out
             self._wake.clear()
-            last_tick = time.perf_counter()
-            count = self._tick(count)
-            if self.status is not None:
-                self.status(self)
+            count = self._deliver(count)
+            now = time.perf_counter()
+            if now >= next_render:
+                self._render()
+                rendered_count = count
+                next_render = max(next_render + period, now)
             if done and not len(self.gestures) and self.latest.take()[1] == count:
+                if rendered_count != count:
+                    self._render()
                 break
             if self.renderer is not None and getattr(self.renderer, "wants_stop", False):
                 break
-            self._wait(last_tick, period)
-
-    def _wait(self, last_tick: float, period: float) -> None:
-        deadline = last_tick + period
-        while not self._stop.is_set():
-            now = time.perf_counter()
-            if now >= deadline:
-                return
-            if self._wake.wait(deadline - now) and time.perf_counter() - last_tick >= period / 2:
-                return
-            if self._wake.is_set():  # woke too early: let the output rate cap hold
-                time.sleep(max(0.0, last_tick + period / 2 - time.perf_counter()))
-                return
+            self._wake.wait(max(0.0, next_render - time.perf_counter()))

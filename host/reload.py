@@ -7,9 +7,9 @@ re-imports the changed effect modules, re-validates the profile, sets up the new
 only then swaps them in. Anything that fails on the way (a syntax error, a bad profile value,
 a raising `setup`) is reported in one line and the previous version keeps running.
 
-Backend, source and output are chosen when the show starts: edits to them are reported and wait
-for the next start. Effects whose class and options did not change keep running untouched, with
-their state.
+Backend, source and output are chosen when the show starts: changing them waits for the next
+start (a backend or source edit says so). Effects whose class and options did not change keep
+running untouched, with their state; rebuilt ones start over.
 """
 from __future__ import annotations
 
@@ -20,12 +20,12 @@ import sys
 import time
 from pathlib import Path
 from types import ModuleType
-from typing import Any, Callable
+from typing import Any, Callable, Iterable
 
 from host.contracts import Effect
 from host.errors import ProfileError
 from host.loop import EffectSlot
-from host.plugins import Registry, default_registry
+from host.plugins import KINDS, Registry, default_registry
 from host.profile import Profile, load
 
 Signature = tuple[int, int] | None  # (mtime in ns, size) of a file; None: it is missing
@@ -39,23 +39,27 @@ def signature(path: Path) -> Signature:
     return (st.st_mtime_ns, st.st_size)
 
 
-def module_group(cls: type) -> str:
-    """The modules reloaded together with an effect class: its own package when it has one
-    (effects.digieviss.effect -> effects.digieviss; an installed `issv_glow` package -> issv_glow),
-    else only its module (effects.console: the top-level `effects` holds other plugins too)."""
-    name = cls.__module__
-    if hasattr(sys.modules.get(name), "__path__"):
-        return name
-    parent = name.rpartition(".")[0]
-    return parent if "." in parent else name
+def module_group(cls: type, others: Iterable[type]) -> str:
+    """The modules reloaded together with a plugin class: the largest package around its module
+    that holds no other plugin (effects.digieviss.effect -> effects.digieviss, since `effects`
+    holds the other built-ins; an installed package issv_glow with issv_glow/effect.py ->
+    issv_glow), else just its module (effects.console)."""
+    taken = [o.__module__ for o in others if o is not cls]
+    parts = cls.__module__.split(".")
+    group = cls.__module__
+    for i in range(len(parts) - 1, 0, -1):
+        candidate = ".".join(parts[:i])
+        if any(m == candidate or m.startswith(candidate + ".") for m in taken):
+            break
+        group = candidate
+    return group
 
 
 def group_modules(group: str) -> list[ModuleType]:
-    """The group's loaded modules, dependencies first: a module is entered in sys.modules before
-    the modules it imports, so the reverse of that order reloads what others import first."""
-    found = [m for name, m in list(sys.modules.items())
-             if (name == group or name.startswith(group + ".")) and getattr(m, "__file__", None)]
-    return found[::-1]
+    """The group's loaded modules, dependencies first: the import system moves a module to the end
+    of sys.modules when it has finished executing, so modules appear after those they import."""
+    return [m for name, m in list(sys.modules.items())
+            if (name == group or name.startswith(group + ".")) and getattr(m, "__file__", None)]
 
 
 def _forget_bytecode(module: ModuleType) -> None:
@@ -110,11 +114,14 @@ class Reloader:
         self._groups: dict[Path, str] = {}
         self._watch(profile)
 
+    def _group_of(self, cls: type) -> str:
+        return module_group(cls, (e.cls for kind in KINDS for e in self.registry.all(kind)))
+
     def _watch(self, profile: Profile) -> None:
         """Watch the profile and the source files of every effect class it uses."""
         files: dict[Path, str] = {}
         for resolved in profile.effects:
-            group = module_group(resolved.cls)
+            group = self._group_of(resolved.cls)
             for module in group_modules(group):
                 files[Path(module.__file__).resolve()] = group
         self._groups = files
@@ -135,9 +142,15 @@ class Reloader:
             self.reload(show, changed)
         except ProfileError as error:
             more = f" (and {len(error.lines) - 1} more)" if len(error.lines) > 1 else ""
-            self.say(f"issv: reload failed, the previous version keeps running: {error.lines[0]}{more}")
+            self._failed(f"{error.lines[0]}{more}")
         except ReloadError as error:
-            self.say(f"issv: reload failed, the previous version keeps running: {error}")
+            self._failed(str(error))
+        except Exception as error:  # e.g. a plugin's option validator raising: the show goes on
+            self._failed(f"{type(error).__name__}: {error}")
+
+    def _failed(self, why: str) -> None:
+        """One line, whatever the error looked like (shader compilers write whole paragraphs)."""
+        self.say("issv: reload failed, the previous version keeps running: " + " ".join(why.split()))
 
     def reload(self, show: Any, changed: set[Path]) -> None:
         groups = sorted({self._groups[p] for p in changed if p in self._groups})
@@ -160,7 +173,7 @@ class Reloader:
     def _adopt(self, group: str) -> None:
         """Point the registry at the reloaded classes, so profiles resolve to the new code."""
         for entry in list(self.registry.all("effects")):
-            if module_group(entry.cls) != group:
+            if self._group_of(entry.cls) != group:
                 continue
             new = getattr(sys.modules[entry.cls.__module__], entry.cls.__qualname__, None)
             if not (isinstance(new, type) and issubclass(new, Effect) and new.name == entry.name):

@@ -89,11 +89,11 @@ def plot_latency(runs: list[Run], path: Path) -> None:
 
 def _heatmap(matrix: np.ndarray, rows: list[str], cols: list[str], title: str, path: Path, fmt: str) -> None:
     fig, ax = plt.subplots(figsize=(1.1 * len(cols) + 2.5, 0.55 * len(rows) + 1.8))
-    shown = np.ma.masked_invalid(matrix)
-    ax.imshow(shown, cmap="viridis", aspect="auto")
+    cmap = plt.get_cmap("viridis").with_extremes(bad="0.9")  # cells with no value: light grey, marked "-"
+    ax.imshow(np.ma.masked_invalid(matrix), cmap=cmap, aspect="auto")
     high = np.nanmax(matrix) if np.isfinite(matrix).any() else 0.0
     for (i, j), v in np.ndenumerate(matrix):
-        dark = np.isnan(v) or v < 0.6 * high  # white text on the dark end of viridis, black on the light end
+        dark = not np.isnan(v) and v < 0.6 * high  # white text on the dark end of viridis, black elsewhere
         ax.text(j, i, "-" if np.isnan(v) else format(v, fmt), ha="center", va="center",
                 color="w" if dark else "k", fontsize=8)
     ax.set_xticks(range(len(cols)), cols, rotation=30, ha="right")

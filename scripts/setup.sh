@@ -6,9 +6,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # Mesa EGL (headless rendering on llvmpipe), Pure Data + liblo-tools (OSC receivers in tests),
-# OpenNI2 (.oni files), ROS 1 (ROS interop), iproute2 (network namespaces in tests).
+# OpenNI2 (.oni files), ROS 1 (ROS interop), iproute2 (network namespaces in tests), Xvfb and
+# xdotool (real-window tests).
 DEBS=(libegl1 libegl-mesa0 libgl1-mesa-dri puredata-core liblo-tools libopenni2-0
-      ros-core python3-rospy python3-sensor-msgs python3-geometry-msgs iproute2)
+      ros-core python3-rospy python3-sensor-msgs python3-geometry-msgs iproute2 xvfb xdotool)
 missing=()
 for pkg in "${DEBS[@]}"; do
   dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")

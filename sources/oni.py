@@ -24,6 +24,7 @@ from host.options import ProfilePath
 
 LIB = "libOpenNI2.so"
 LIB_DIRS = ["/usr/lib/x86_64-linux-gnu", "/usr/lib/aarch64-linux-gnu", "/usr/lib", "/usr/local/lib"]
+DEFAULT_FOV_DEG = (58.0, 45.0)  # PrimeSense / Kinect-class depth camera, when the file does not say
 STALL_S = 2.0  # no frame for this long: the file cannot be played
 INSTALL = "on Debian/Ubuntu: apt-get install libopenni2-0 (or set OPENNI2_REDIST to an OpenNI2 Redist folder)"
 
@@ -104,8 +105,9 @@ class OniSource(Source):
         self._scale = self._mm_scale(mode.pixelFormat)
         self.width, self.height = mode.resolutionX, mode.resolutionY
         self.fps = float(mode.fps or 30)
-        self.intrinsics = Intrinsics.from_fov(self.width, self.height, np.degrees(self.stream.get_horizontal_fov()),
-                                              np.degrees(self.stream.get_vertical_fov()))
+        fov = (self._try(self.stream.get_horizontal_fov, None), self._try(self.stream.get_vertical_fov, None))
+        fov_deg = tuple(np.degrees(fov)) if None not in fov else DEFAULT_FOV_DEG  # not every recording has it
+        self.intrinsics = Intrinsics.from_fov(self.width, self.height, *fov_deg)
         self.mirrored = bool(self._try(self.stream.get_mirroring_enabled, True))
         self.frames = int(self._try(lambda: self.device.playback.get_number_of_frames(self.stream), -1))
         self.device.playback.set_speed(self.options.speed)

@@ -4,9 +4,9 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from backends.truth import TruthBackend
 from host import Frame
 from host.cli import main as issv
+from host.plugins import default_registry
 from sources.synthetic import SyntheticOptions, SyntheticSource
 
 # A small, noiseless, seeded synthetic performer: deterministic and cheap to render.
@@ -24,19 +24,19 @@ def write_profile(path: Path, source: dict | None = None, backend: dict | None =
     return path
 
 
-def record(tmp_path: Path, seconds: float = 4.0, name: str = "show.mcap", **source) -> Path:
-    """`issv record` of the synthetic performer tracked by `truth`, as fast as possible."""
-    prof = write_profile(tmp_path / "record.toml", {"name": "synthetic", **SYNTH, **source})
+def record(tmp_path: Path, seconds: float = 4.0, name: str = "show.mcap", backend: str = "truth", **source) -> Path:
+    """`issv record` of the synthetic performer tracked by `backend`, as fast as possible."""
+    prof = write_profile(tmp_path / f"{name}.toml", {"name": "synthetic", **SYNTH, **source}, {"name": backend})
     out = tmp_path / name
     assert issv(["record", str(prof), "-o", str(out), "--seconds", str(seconds), "--fast"]) == 0
     return out
 
 
-def tracked_live(seconds: float = 4.0, **source) -> list[Frame]:
-    """What `truth` reports for the same performer when run directly (the reference)."""
+def tracked_live(seconds: float = 4.0, backend: str = "truth", **source) -> list[Frame]:
+    """What `backend` reports for the same performer when run directly (the reference)."""
     src = SyntheticSource(SyntheticOptions(**{**SYNTH, **source}))
     frames = []
-    with TruthBackend(src) as backend:
+    with default_registry().get("backends", backend).cls(src) as backend:
         while (frame := backend.update()) is not None:
             frames.append(frame)
             if frame.timestamp - frames[0].timestamp >= seconds:

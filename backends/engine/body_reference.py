@@ -46,11 +46,16 @@ class BodyReference:
         self._velocity = np.zeros(3)
         self._recent: deque[tuple[float, float, float, float]] = deque()  # t, mean x, lowest y, furthest z
         self._heights: deque[tuple[float, float]] = deque()  # t, torso y: its vertical speed
+        self._given: tuple | None = None  # the last body points given: t, torso, head
 
     def update(self, t: float, hands: Mapping[int, np.ndarray], body: Mapping[str, tuple]) -> BodyFrame:
         r = self.rules
         estimate = self._estimate(t, hands)
         torso, head = body.get("torso"), body.get("head")
+        if torso is not None or head is not None:
+            self._given = (t, torso, head)
+        elif self._given is not None and t - self._given[0] <= r.body_hold_s:
+            _, torso, head = self._given  # a skeleton missing for a moment: the body has not moved
         if torso is None and head is None:  # estimated: its vertical speed is unknown, say steady
             torso = estimate if estimate is not None else np.zeros(3)
             head_y = float(torso[1]) + r.head_above_torso_mm

@@ -3,9 +3,9 @@
 A cell of the user is "extended" when it is in front of the trunk (push, click), beside it
 (swipe, arms spread) or above the shoulders away from the head (wave, hand raise), and above the
 hips (legs are not hands). Each connected patch of extended cells is one arm; its hand is the
-centre of the cells within a palm's reach of the point farthest from the base of the neck (the
-middle of the shoulder line: unlike the nearer shoulder, it keeps the hand the far end of an arm
-that crosses the body). All in mm.
+centre of the cells within a palm's reach of the patch's point farthest from where the patch
+joins the rest of the body without a depth jump (the elbow of a raised forearm, the shoulder of
+an outstretched arm), so a bent or crossing arm still ends in its hand. All in mm.
 """
 from __future__ import annotations
 
@@ -22,12 +22,14 @@ from backends.engine.segmentation import Segment
 class HandOptions(BaseModel):
     model_config = ConfigDict(extra="forbid")
     front_mm: float = Field(120, gt=0, description="in front of the trunk's surface by more than this: extended")
-    beside_mm: float = Field(275, gt=0, description="farther than this sideways from the spine: extended")
+    beside_mm: float = Field(340, gt=0, description="farther than this sideways from the spine: extended")
     above_shoulder_mm: float = Field(150, description="higher than this above the shoulder line and clear of the head")
     head_clearance_mm: float = Field(190, gt=0, description="cells this close to the head joint are head, not hand")
     palm_radius_mm: float = Field(120, gt=0, description="cells this close to the fingertips make up the hand")
     min_area_m2: float = Field(0.003, gt=0, description="smaller patches are noise, not a hand")
     hand_depth_mm: float = Field(25, ge=0, description="the hand joint lies this far behind the hand's surface")
+    hip_margin_mm: float = Field(60, ge=0, description="a limb whose far end reaches this close to the hip line hangs down")
+    joint_step_mm: float = Field(100, gt=0, description="neighbours closer than this in depth are one surface (arm joins body)")
     max_hands: int = Field(2, ge=1)
 
 
@@ -36,6 +38,7 @@ class Candidate:
     position: np.ndarray  # mm
     reach: float  # mm from the base of the neck: how extended the arm is
     at_border: bool  # the hand touches the edge of the image
+    root: np.ndarray  # where the arm joins the body (mm): tells left from right when arms cross
 
 
 class HandDetector:
@@ -54,24 +57,40 @@ class HandDetector:
         cand = seg.mask & extended & (g.y > body.hip_y)
         if not cand.any():
             return []
-        count, labels, stats, _ = cv2.connectedComponentsWithStats(cand.view(np.uint8), connectivity=8)
+        count, labels = cv2.connectedComponents(cand.view(np.uint8), connectivity=8)
+        attached = self._attached(cand, seg.mask & ~cand, g.z)
         neck = np.array([tx, body.shoulder_y, body.torso[2]])
         h, w = g.shape
         found: list[Candidate] = []
         for label in range(1, count):
             ys, xs = np.nonzero(labels == label)
-            pts = np.stack([g.x[ys, xs], g.y[ys, xs], g.z[ys, xs]], axis=1).astype(np.float64)
-            if seg.grid.pixel_area_mm2[ys, xs].sum() < o.min_area_m2 * 1e6:
+            if g.pixel_area_mm2[ys, xs].sum() < o.min_area_m2 * 1e6:
                 continue
-            reach = np.linalg.norm(pts - neck, axis=1)
-            tip = int(np.argmax(reach))
+            pts = np.stack([g.x[ys, xs], g.y[ys, xs], g.z[ys, xs]], axis=1).astype(np.float64)
+            joint = attached[ys, xs]
+            root = pts[joint].mean(axis=0) if joint.any() else neck
+            tip = int(np.argmax(np.linalg.norm(pts - root, axis=1)))
+            if pts[tip, 1] < body.hip_y + o.hip_margin_mm and body.surface_z - pts[tip, 2] < o.front_mm:
+                continue  # the limb goes on below the hips at the body's side: a hanging arm, its hand is not out
             palm = np.linalg.norm(pts - pts[tip], axis=1) <= o.palm_radius_mm
             position = pts[palm].mean(axis=0) + (0.0, 0.0, o.hand_depth_mm)
             at_border = bool(np.any((ys[palm] == 0) | (ys[palm] == h - 1) | (xs[palm] == 0) | (xs[palm] == w - 1)))
-            found.append(Candidate(position, float(reach[tip]), at_border))
+            reach = float(np.linalg.norm(pts[tip] - neck))
+            found.append(Candidate(position, reach, at_border, root if joint.any() else position))
         found.sort(key=lambda c: -c.reach)
         kept: list[Candidate] = []
         for c in found:  # two patches of one arm (cut by the head's clearance) are one hand
             if all(np.linalg.norm(c.position - k.position) > 2 * o.palm_radius_mm for k in kept):
                 kept.append(c)
         return kept[: o.max_hands]
+
+    def _attached(self, cand: np.ndarray, rest: np.ndarray, z: np.ndarray) -> np.ndarray:
+        """Candidate cells joined to the rest of the body without a depth jump: where each arm starts."""
+        out = np.zeros_like(cand)
+        step = self.options.joint_step_mm
+        for axis, shift in ((0, 1), (0, -1), (1, 1), (1, -1)):
+            other = np.roll(rest, shift, axis=axis)
+            near = np.abs(z - np.roll(z, shift, axis=axis)) < step
+            out |= other & near
+        return out & cand
+

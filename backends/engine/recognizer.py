@@ -29,7 +29,7 @@ import numpy as np
 from backends.engine.body_reference import BodyReference
 from backends.engine.rules import GestureRules
 from backends.engine.strokes import X, Y, Z, AxisStrokes, Sample, Stroke
-from host import CANONICAL_GESTURES, Gesture, GestureState, GestureType, Hand, HandState, Side, Vec3
+from host import CANONICAL_GESTURES, Gesture, GestureState, GestureType, Hand, HandState, Vec3
 
 #: The dictionaries of the engine's modes: canonical name -> the native type it is reported as.
 OPENISS_DICTIONARY: dict[str, GestureType] = {n: GestureType.from_canonical(n) for n in CANONICAL_GESTURES}
@@ -56,22 +56,17 @@ def _confidence(*margins: float) -> float:
 
 
 @dataclass
-class _Pending:
-    """A swipe waiting `swipe_confirm_s` to see whether it was only a wind-up."""
-
-    stroke: Stroke
-
-
-@dataclass
 class _HandTrack:
     """Everything the recogniser remembers about one hand."""
 
     rules: GestureRules
+    hand: Hand  # as last seen
+    born: float = 0.0  # when the hand was first seen
     last_seen: float = 0.0
     samples: deque = field(default_factory=deque)
     refractory_until: float = float("-inf")
-    pending: dict[int, _Pending] = field(default_factory=dict)
-    chains: dict[int, list[Stroke]] = field(default_factory=lambda: {X: [], Y: []})
+    pending: dict[int, Stroke] = field(default_factory=dict)  # per axis: a swipe waiting for confirmation
+    chains: dict[int, list[Stroke]] = field(default_factory=lambda: {X: [], Y: []})  # alternating strokes
     announced: set = field(default_factory=set)  # IN_PROGRESS already sent, keyed by attempt
     wave_done_at: float = float("-inf")  # start time of the chain whose wave was completed
     raised_since: float | None = None  # when the hand last went up above the head
@@ -114,6 +109,7 @@ class GestureRecognizer:
         """Forget every hand and the body (a new performance)."""
         self._body = BodyReference(self.rules)
         self._tracks: dict[int, _HandTrack] = {}
+        self._last_t = float("-inf")
 
     def update(self, t: float, hands: Sequence[Hand], body: Mapping[str, Vec3] | None = None,
                mirrored: bool = True) -> list[Gesture]:
@@ -122,22 +118,30 @@ class GestureRecognizer:
         `mirrored` says whether +x is the performer's right (a mirrored image) or left; swipe
         directions are reported from the performer's point of view.
         """
+        if t < self._last_t:  # the stream started again (a looping clip): a new performance
+            self.reset()
+        self._last_t = t
         live = [h for h in hands if h.state not in _GONE]
-        for h in hands:
-            if h.state in _GONE:
-                self._tracks.pop(h.id, None)
-        for hid in [i for i, tr in self._tracks.items() if t - tr.last_seen > self.rules.forget_after_s]:
-            del self._tracks[hid]
-        frame = self._body.update(t, {h.id: np.asarray(h.position, float) for h in live}, body or {})
         events: list[Gesture] = []
+        gone = {h.id for h in hands if h.state in _GONE}
+        gone |= {i for i, tr in self._tracks.items() if t - tr.last_seen > self.rules.forget_after_s}
+        for hid in gone:
+            track = self._tracks.pop(hid, None)
+            if track is not None:  # a swipe just before the hand left the view still counts
+                _Hand(self, track, track.hand, t, mirrored, events, self._tracks).flush()
+        frame = self._body.update(t, {h.id: np.asarray(h.position, float) for h in live}, body or {})
         for h in live:
             track = self._tracks.get(h.id)
             if track is None:
-                track = self._tracks[h.id] = _HandTrack(self.rules)
-            track.last_seen = t
+                track = self._tracks[h.id] = _HandTrack(self.rules, h, born=t)
+            track.hand, track.last_seen = h, t
             s = track.sample(t, np.asarray(h.position, float) - frame.torso,
                              frame.shoulder_y - frame.torso[1], frame.head_y - frame.torso[1], h.position, frame.vy)
             _Hand(self, track, h, t, mirrored, events, self._tracks).step(s)
+        seen = {h.id for h in live}
+        for hid, track in self._tracks.items():
+            if hid not in seen:  # unseen this frame: its pending swipes still come due
+                _Hand(self, track, track.hand, t, mirrored, events, self._tracks).resolve_all()
         return events
 
 
@@ -162,16 +166,15 @@ class _Hand:
             self.tr.refractory_until = self.t + self.r.refractory_s
             self.tr.pending.clear()
         self.events.append(Gesture(native, state, tuple(float(c) for c in at.world), self.hand.id,
-                                   self.hand.side if isinstance(self.hand.side, Side) else Side(self.hand.side),
-                                   float(np.clip(confidence, 0.0, 1.0)), self.t))
+                                   self.hand.side, float(np.clip(confidence, 0.0, 1.0)), self.t))
         return True
 
     def announce(self, name: str, key: object, confidence: float, at: Sample) -> None:
         """IN_PROGRESS, once per attempt (`key` names the attempt, e.g. the stroke's start time)."""
         if (name, key) not in self.tr.announced and self.t >= self.tr.refractory_until:
+            if len(self.tr.announced) >= 64:  # attempts that old are long over
+                self.tr.announced.clear()
             self.tr.announced.add((name, key))
-            if len(self.tr.announced) > 64:
-                self.tr.announced = {(name, key)}
             self.emit(name, GestureState.IN_PROGRESS, confidence, at)
 
     # --- one frame ----------------------------------------------------------------------------
@@ -184,10 +187,19 @@ class _Hand:
                     self.click(done)
                 else:
                     self.stroke_ended(done, reversed_)
-        for axis in (X, Y):
-            self.resolve_pending(axis)
+        self.resolve_all()
         self.click_under_way()
         self.hand_raise(s)
+
+    def resolve_all(self) -> None:
+        for axis in (X, Y):
+            self.resolve_pending(axis)
+
+    def flush(self) -> None:
+        """The hand is gone: its pending swipes are complete (nothing followed them)."""
+        for stroke in list(self.tr.pending.values()):
+            self.emit(self.swipe_name(stroke), GestureState.COMPLETE, self.swipe_confidence(stroke), stroke.end)
+        self.tr.pending.clear()
 
     # --- swipes and waves ---------------------------------------------------------------------
     def swipe_name(self, stroke: Stroke) -> str:
@@ -196,19 +208,27 @@ class _Hand:
         towards_right = (stroke.direction > 0) == self.mirrored
         return "swipe_right" if towards_right else "swipe_left"
 
+
     def swipe_like(self, stroke: Stroke) -> bool:
         """Fast and dominant along its axis, with the hand up from rest and the body steady
         (travel checked apart); judged on the stroke's core."""
         r = self.r
-        core = stroke.core(r.stroke_core_speed_fraction)
-        # a vertical stroke is judged whole: one that starts or ends at rest is the arm lifting or dropping
-        lowest = (stroke if stroke.axis == Y else core).lowest
+        core = stroke.core(r.stroke_core_speed_fraction, r.stroke_core_speed_mm_s)
+        if stroke.axis == Y:
+            # judged whole: a vertical stroke that starts or ends at rest is the arm lifting or dropping;
+            # and one that starts where its hand was first seen may have been lifting from a rest the
+            # tracker could not tell from the body
+            lowest = stroke.lowest
+            if stroke.start.t - self.tr.born < r.vertical_swipe_seen_before_s:
+                return False
+        else:
+            lowest = core.lowest
         return (core.peak_speed >= r.swipe_min_peak_speed_mm_s and core.dominance >= r.swipe_dominance
                 and lowest >= r.active_min_height_mm and core.duration <= r.swipe_max_duration_s
                 and core.body_speed <= r.steady_body_max_vertical_speed_mm_s)
 
     def is_swipe(self, stroke: Stroke) -> bool:
-        core = stroke.core(self.r.stroke_core_speed_fraction)
+        core = stroke.core(self.r.stroke_core_speed_fraction, self.r.stroke_core_speed_mm_s)
         return (core.travel >= self.r.swipe_min_travel_mm and self.swipe_like(stroke)
                 and not self.mirrored_by_other_hand(core))
 
@@ -230,7 +250,7 @@ class _Hand:
 
     def swipe_confidence(self, stroke: Stroke) -> float:
         r = self.r
-        stroke = stroke.core(r.stroke_core_speed_fraction)
+        stroke = stroke.core(r.stroke_core_speed_fraction, r.stroke_core_speed_mm_s)
         return _confidence(_margin(stroke.travel, r.swipe_min_travel_mm),
                            _margin(stroke.peak_speed, r.swipe_min_peak_speed_mm_s),
                            _margin(stroke.dominance, r.swipe_dominance))
@@ -240,22 +260,20 @@ class _Hand:
         if chain and not (chain[-1].direction == -stroke.direction
                           and stroke.start.t - chain[-1].end.t <= _CHAIN_GAP_S):
             chain.clear()
-        if (stroke.travel >= self.r.wave_min_amplitude_mm and stroke.dominance >= 1.0
+        if (stroke.travel >= self.r.wave_min_amplitude_mm and stroke.dominance >= 1.0  # mostly along the axis
                 and stroke.lowest >= self.r.active_min_height_mm):
             chain.append(stroke)
         else:
             chain.clear()
         pending = self.tr.pending.pop(stroke.axis, None)
-        if pending is not None:
-            if self.comparable(stroke, pending.stroke):
-                pass  # a wind-up followed by the real swipe, or a back-and-forth: the first is no swipe
-            else:
-                self.emit(self.swipe_name(pending.stroke), GestureState.COMPLETE,
-                          self.swipe_confidence(pending.stroke), pending.stroke.end)
-        place = len(chain) if chain and chain[-1] is stroke else 1
-        if place <= 2 and self.is_swipe(stroke) and (pending is None or stroke.travel > pending.stroke.travel
-                                                     or not self.comparable(stroke, pending.stroke)):
-            self.tr.pending[stroke.axis] = _Pending(stroke)
+        # a comparable stroke the other way after a pending swipe: a wind-up and the real swipe, or a
+        # back-and-forth; either way the first was no swipe. Otherwise the first is confirmed now.
+        follows = pending is not None and self.comparable(stroke, pending)
+        if pending is not None and not follows:
+            self.emit(self.swipe_name(pending), GestureState.COMPLETE, self.swipe_confidence(pending), pending.end)
+        place = len(chain) if chain and chain[-1] is stroke else 1  # a third alternating stroke is a wave's
+        if place <= 2 and self.is_swipe(stroke) and (not follows or stroke.travel > pending.travel):
+            self.tr.pending[stroke.axis] = stroke
             self.announce(self.swipe_name(stroke), stroke.start.t, self.swipe_confidence(stroke), stroke.end)
         if stroke.axis == X:
             self.wave(chain, reversed_)
@@ -263,14 +281,13 @@ class _Hand:
     def resolve_pending(self, axis: int) -> None:
         """Complete a swipe once it is clear that no comparable stroke the other way follows it."""
         pending = self.tr.pending.get(axis)
-        if pending is None or self.t < pending.stroke.end.t + self.r.swipe_confirm_s:
+        if pending is None or self.t < pending.end.t + self.r.swipe_confirm_s:
             return
         current = self.tr.strokes[axis].current()
-        if current is not None and current.direction == -pending.stroke.direction and self.swipe_like(current):
+        if current is not None and current.direction == -pending.direction and self.swipe_like(current):
             return  # a fast stroke the other way is under way: wait for it to end
         del self.tr.pending[axis]
-        self.emit(self.swipe_name(pending.stroke), GestureState.COMPLETE,
-                  self.swipe_confidence(pending.stroke), pending.stroke.end)
+        self.emit(self.swipe_name(pending), GestureState.COMPLETE, self.swipe_confidence(pending), pending.end)
 
     def wave_stroke(self, stroke: Stroke) -> bool:
         r = self.r
@@ -302,7 +319,7 @@ class _Hand:
     # --- click --------------------------------------------------------------------------------
     def click_like(self, stroke: Stroke) -> bool:
         r = self.r
-        core = stroke.core(r.stroke_core_speed_fraction)
+        core = stroke.core(r.stroke_core_speed_fraction, r.stroke_core_speed_mm_s)
         return (stroke.direction < 0 and core.travel >= r.click_min_travel_mm
                 and core.peak_speed >= r.click_min_peak_speed_mm_s and core.dominance >= r.click_dominance
                 and r.click_min_duration_s <= stroke.duration and core.duration <= r.click_max_duration_s
@@ -311,7 +328,7 @@ class _Hand:
 
     def click_confidence(self, stroke: Stroke) -> float:
         r = self.r
-        stroke = stroke.core(r.stroke_core_speed_fraction)
+        stroke = stroke.core(r.stroke_core_speed_fraction, r.stroke_core_speed_mm_s)
         return _confidence(_margin(stroke.travel, r.click_min_travel_mm),
                            _margin(stroke.peak_speed, r.click_min_peak_speed_mm_s),
                            _margin(stroke.dominance, r.click_dominance))

@@ -27,13 +27,11 @@ class GestureRules(BaseModel):
         0.06, gt=0, description="speeds are measured over this interval (two frames at 30 Hz)")
     stroke_core_speed_fraction: float = Field(
         0.25, ge=0, lt=1, description="a stroke is judged on its core, the samples moving faster than this "
-        "share of its peak speed: the slow start of an arc and the settling at its end are not the gesture")
-    steady_body_max_vertical_speed_mm_s: float = Field(
-        350.0, gt=0, description="no swipe or click while the torso rises or sinks faster than this "
-        "(squatting, sitting down, lunging: the arms move for balance)")
-    body_speed_window_s: float = Field(
-        0.2, gt=0, description="the torso's speed is measured over this interval (longer than for hands: "
-        "a skeleton's torso jitters by several mm per frame, a squat lasts a second)")
+        "share of its peak speed (or than `stroke_core_speed_mm_s`, if lower): the slow start of an arc "
+        "and the settling at its end are not the gesture")
+    stroke_core_speed_mm_s: float = Field(
+        500.0, gt=0, description="samples moving faster than this are always in the core, however fast the "
+        "peak (a flick caught by one or two frames at 30 Hz must not shrink the stroke to those frames)")
     active_min_height_mm: float = Field(
         -150.0, description="a hand lower than this relative to the torso (the spine joint) hangs at rest: "
         "swipes and clicks must start and end above it, so lifting the arm from rest or dropping it "
@@ -48,16 +46,22 @@ class GestureRules(BaseModel):
     swipe_dominance: float = Field(
         1.5, ge=1, description="travel along the swipe direction over the largest travel along the other axes: "
         "diagonal wind-ups and returns stay below it")
+    vertical_swipe_seen_before_s: float = Field(
+        0.1, ge=0, description="a swipe up or down must start at least this long after its hand was first "
+        "seen: a hand found mid-rise may be lifting from a rest where a depth tracker could not tell it "
+        "from the body")
     swipe_confirm_s: float = Field(
         0.25, ge=0, description="after a stroke ends, how long to watch whether a comparable stroke the other "
         "way follows (then the first was a wind-up, or both belong to a wave); this is the swipe's latency")
     swipe_comparable_ratio: float = Field(
         0.4, gt=0, le=1, description="a following opposite stroke with at least this share of the first's "
-        "travel, fast and dominant like a swipe, makes the first a wind-up (or part of a wave)")
+        "travel, fast and dominant like a swipe, makes the first a wind-up (or part of a wave); another hand "
+        "moving the other way by this share at the same time makes it two-handed (a clap), not a swipe or wave")
 
     # --- wave ---------------------------------------------------------------------------------
     wave_min_amplitude_mm: float = Field(
-        100.0, gt=0, description="horizontal swing of each side-to-side stroke of a wave")
+        150.0, gt=0, description="horizontal swing of each side-to-side stroke of a wave (a forearm waving "
+        "about the elbow swings the hand 20-40 cm; hands clapping or rubbing move less)")
     wave_max_stroke_s: float = Field(0.8, gt=0, description="a slower side-to-side stroke is not waving")
     wave_min_reversals: int = Field(3, ge=1, description="direction reversals needed: 3 = right-left-right-left")
     wave_max_below_shoulder_mm: float = Field(
@@ -91,7 +95,17 @@ class GestureRules(BaseModel):
     forget_after_s: float = Field(
         0.5, gt=0, description="a hand not reported for this long is forgotten (a LOST hand at once)")
 
-    # --- the body, when the input has no skeleton ------------------------------------------------
+    # --- the body ----------------------------------------------------------------------------
+    body_hold_s: float = Field(
+        1.0, ge=0, description="body points missing from a frame are taken as unchanged for this long "
+        "(a skeleton that flickers must not make the hands jump relative to the body)")
+    steady_body_max_vertical_speed_mm_s: float = Field(
+        350.0, gt=0, description="no swipe or click while the torso rises or sinks faster than this "
+        "(squatting, sitting down, lunging: the arms move for balance)")
+    body_speed_window_s: float = Field(
+        0.2, gt=0, description="the torso's speed is measured over this interval (longer than for hands: "
+        "a skeleton's torso jitters by several mm per frame, a squat lasts a second)")
+    # without a skeleton, or with only part of one
     head_above_torso_mm: float = Field(
         520.0, gt=0, description="head centre above the torso (spine) joint, used when only the torso is known")
     shoulder_below_head_mm: float = Field(250.0, gt=0, description="shoulder line below the head's centre")

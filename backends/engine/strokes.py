@@ -68,10 +68,12 @@ class Stroke:
         """Highest speed along the stroke's direction, mm/s."""
         return max(float(self.direction * s.v[self.axis]) for s in self.samples)
 
-    def core(self, fraction: float) -> "Stroke":
-        """The part of the stroke moving faster than `fraction` of its peak speed: the gesture
-        proper, without the slow start of an arc or the settling at its end."""
-        fast = [i for i, s in enumerate(self.samples) if self.direction * s.v[self.axis] >= fraction * self.peak_speed]
+    def core(self, fraction: float, speed_mm_s: float) -> "Stroke":
+        """The part of the stroke moving faster than `fraction` of its peak speed or `speed_mm_s`,
+        whichever is lower: the gesture proper, without the slow start of an arc or the settling at
+        its end (the absolute bound keeps a stroke whole when a frame or two catch a very fast flick)."""
+        threshold = min(fraction * self.peak_speed, speed_mm_s)
+        fast = [i for i, s in enumerate(self.samples) if self.direction * s.v[self.axis] >= threshold]
         if not fast:
             return self
         return Stroke(self.axis, self.direction, self.samples[fast[0]: fast[-1] + 1])

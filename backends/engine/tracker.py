@@ -28,6 +28,10 @@ class TrackerOptions(BaseModel):
     lost_timeout_s: float = Field(0.5, ge=0, description="a hand unseen this long is LOST; seen again sooner, it keeps its id")
     max_speed_mm_s: float = Field(5000, gt=0, description="fastest plausible hand: gates matching across frames")
     match_slack_mm: float = Field(150, ge=0, description="matching distance allowed on top of max speed * dt")
+    match_max_gap_s: float = Field(0.1, gt=0, description="the gate stops growing after this long unseen: "
+                                   "a hand that reappears far away is a new hand")
+    side_margin_mm: float = Field(100, ge=0, description="an arm joining the body this far on the other side "
+                                  "of the spine is not this track's hand")
     predict_s: float = Field(0.0, ge=0, le=0.2, description=(
         "report hands this far ahead along their velocity: compensates a show's output latency "
         "(projector, renderer) so effects land on the hands; 0 reports where the hand was seen"))
@@ -45,14 +49,17 @@ class TrackResult:
     hands: tuple[Hand, ...]
     body: dict[str, Vec3]
     mask: np.ndarray | None = None  # (h, w) bool on the internal grid; full_mask() for the image's size
-    shape: tuple[int, int] = (0, 0)  # the depth image's (height, width)
+    grid_z: np.ndarray | None = None  # the grid's depth (mm), to refine the mask at full resolution
 
-    def full_mask(self) -> np.ndarray | None:
-        """The user's silhouette at the depth image's resolution (for silhouette effects)."""
-        if self.mask is None:
+    def full_mask(self, depth: DepthFrame, tolerance_mm: float = 250.0) -> np.ndarray | None:
+        """The user's silhouette at the depth image's resolution (for silhouette effects): pixels
+        of a user cell with a reading close to that cell's depth (not the wall seen beside it)."""
+        if self.mask is None or self.grid_z is None:
             return None
-        h, w = self.shape
-        return cv2.resize(self.mask.view(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST).view(bool)
+        size = (depth.width, depth.height)
+        near = cv2.resize(self.mask.view(np.uint8), size, interpolation=cv2.INTER_NEAREST).view(bool)
+        z = cv2.resize(self.grid_z, size, interpolation=cv2.INTER_NEAREST)
+        return near & (depth.data > 0) & (np.abs(depth.data - z) < tolerance_mm)
 
 
 @dataclass(eq=False)
@@ -75,30 +82,28 @@ class HandTracker:
     def __init__(self, options: TrackerOptions | None = None) -> None:
         self.options = options or TrackerOptions()
         self.segmenter = Segmenter(self.options.segmentation)
-        self.body_estimator = BodyEstimator(self.options.body)
+        self.body_estimator = BodyEstimator(self.options.body, self.options.body_smoothing)
         self.detector = HandDetector(self.options.hands)
         self._tracks: list[_Track] = []
         self._next_id = 1
-        self._body_filters = {k: OneEuroFilter(self.options.body_smoothing) for k in ("torso", "head")}
 
     def process(self, depth: DepthFrame) -> TrackResult:
         t = depth.timestamp
         seg = self.segmenter.segment(depth)
-        body = self.body_estimator.estimate(seg) if seg is not None else None
+        body = self.body_estimator.estimate(seg, t) if seg is not None else None
         if body is None:
             self.body_estimator.reset()
             hands = self._update_tracks(t, [], None, depth.mirrored)
-            return TrackResult(hands, {}, None, (depth.height, depth.width))
+            return TrackResult(hands, {})
         candidates = self.detector.detect(seg, body)
         hands = self._update_tracks(t, candidates, body.torso, depth.mirrored)
-        points = {"torso": _vec(self._body_filters["torso"](t, body.torso)),
-                  "head": _vec(self._body_filters["head"](t, body.head))}
-        return TrackResult(hands, points, seg.mask, (depth.height, depth.width))
+        points = {"torso": _vec(body.torso), "head": _vec(body.head)}
+        return TrackResult(hands, points, seg.mask, seg.grid.z)
 
     # -- tracks ------------------------------------------------------------------------------
     def _update_tracks(self, t: float, found: list[Candidate], torso: np.ndarray | None,
                        mirrored: bool) -> tuple[Hand, ...]:
-        matched = self._match(t, found)
+        matched = self._match(t, found, torso, mirrored)
         out: list[Hand] = []
         for track, cand in matched.items():
             track.seen, track.at_border = t, cand.at_border
@@ -129,7 +134,8 @@ class HandTracker:
             out.append(self._hand(track, state, 1.0))
         return tuple(sorted(out, key=lambda h: h.id))
 
-    def _match(self, t: float, found: list[Candidate]) -> dict[_Track, Candidate]:
+    def _match(self, t: float, found: list[Candidate], torso: np.ndarray | None,
+               mirrored: bool) -> dict[_Track, Candidate]:
         """The assignment of candidates to live tracks with the smallest total distance, within gates."""
         tracks = self._tracks
         if not tracks or not found:
@@ -144,7 +150,8 @@ class HandTracker:
             for i, j in enumerate(perm):
                 tr, c = (small[i], large[j]) if small is tracks else (large[j], small[i])
                 d = float(np.linalg.norm(tr.position - c.position))
-                if d <= o.match_slack_mm + o.max_speed_mm_s * (t - tr.seen):
+                gate = o.match_slack_mm + o.max_speed_mm_s * min(t - tr.seen, o.match_max_gap_s)
+                if d <= gate and self._side_of(c, torso, mirrored, o.side_margin_mm) in (tr.side, Side.UNKNOWN):
                     pairs[tr] = c
                     cost += d
                 else:
@@ -154,19 +161,21 @@ class HandTracker:
         return best
 
     def _birth(self, t: float, cand: Candidate, torso: np.ndarray | None, mirrored: bool) -> _Track:
-        others = {tr.side for tr in self._tracks}
-        if len(others) == 1 and Side.UNKNOWN not in others:
-            side = Side.LEFT if others == {Side.RIGHT} else Side.RIGHT  # two hands, one of each
-        elif torso is None:
-            side = Side.UNKNOWN
-        else:
-            image_right = cand.position[0] >= torso[0]
-            side = Side.RIGHT if image_right == mirrored else Side.LEFT
+        side = self._side_of(cand, torso, mirrored, 0.0)
         track = _Track(self._next_id, side, OneEuroFilter(self.options.smoothing), cand.position, t, t,
                        cand.at_border)
         track.position = track.filter(t, cand.position)
         self._next_id += 1
         return track
+
+    @staticmethod
+    def _side_of(cand: Candidate, torso: np.ndarray | None, mirrored: bool, margin: float) -> Side:
+        """The performer's side the arm joins the body on (where it starts, not where the hand
+        is, so a hand across the body keeps its side); UNKNOWN within `margin` of the spine."""
+        if torso is None or abs(cand.root[0] - torso[0]) < max(margin, 1e-9):
+            return Side.UNKNOWN
+        image_right = cand.root[0] > torso[0]
+        return Side.RIGHT if image_right == mirrored else Side.LEFT
 
     @staticmethod
     def _hand(track: _Track, state: HandState, confidence: float) -> Hand:

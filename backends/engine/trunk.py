@@ -14,17 +14,22 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.segmentation import Segment
+from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
+
+
+_HOLE = np.ones((3, 3), np.uint8)
 
 
 class BodyOptions(BaseModel):
     model_config = ConfigDict(extra="forbid")
     core_width_mm: float = Field(220, gt=0, description="opening size: wider than an arm, narrower than a chest")
     plane_band_mm: float = Field(250, gt=0, description="points nearer than this in front of the torso are not trunk")
-    shoulder_below_core_top_mm: float = Field(40, description="shoulder joints below the top of the trunk")
-    spine_below_shoulder_mm: float = Field(300, description="spine joint below the shoulder line")
+    shoulder_below_core_top_mm: float = Field(100, description="shoulder joints below the top of the trunk")
+    spine_below_shoulder_mm: float = Field(240, description="spine joint below the shoulder line")
     trunk_height_mm: float = Field(550, gt=0, description="shoulder line to hips")
     joint_depth_mm: float = Field(110, ge=0, description="joints lie this far behind the body's front surface")
-    head_radius_mm: float = Field(150, gt=0)
+    head_radius_mm: float = Field(150, gt=0, description="half the width of the column the head is looked for in")
+    shoulder_below_crown_mm: float = Field(350, gt=0, description="shoulder joints below the top of the head")
     crown_above_head_mm: float = Field(60, ge=0, description="top of the head (as the coarse grid sees it) above the head joint")
 
 
@@ -41,14 +46,20 @@ class Body:
 
 
 class BodyEstimator:
-    def __init__(self, options: BodyOptions) -> None:
+    def __init__(self, options: BodyOptions, smoothing: SmoothingOptions) -> None:
         self.options = options
-        self._surface_z: float | None = None
+        self.smoothing = smoothing
+        self.reset()
 
     def reset(self) -> None:
-        self._surface_z = None
+        self._surface_z: float | None = None
+        # The body moves slower than its outline flickers: the frame (spine x, shoulder line,
+        # surface depth) and the head are smoothed before hands are judged from them.
+        self._frame = OneEuroFilter(self.smoothing)
+        self._head_filter = OneEuroFilter(self.smoothing)
 
-    def estimate(self, seg: Segment) -> Body | None:
+    def estimate(self, seg: Segment, t: float) -> Body | None:
+        """The body frame of this frame at `t` seconds (None without a user)."""
         o, g, mask = self.options, seg.grid, seg.mask
         z_user = g.z[mask]
         if z_user.size == 0:
@@ -56,38 +67,51 @@ class BodyEstimator:
         ref = self._surface_z if self._surface_z is not None else float(np.median(z_user))
         k = max(3, int(round(o.core_width_mm / (g.cell_x * ref))))
         kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k, k))
-        # The outline gives the shoulder line (an arm across the chest stays inside it); the trunk's
-        # position and depth come from the part near its own plane (an arm in front would drag them).
-        outline = self._open(mask, kernel)
+        # The trunk's position and depth come from the part near its own plane (an arm held in
+        # front would drag them); the shoulder line from the lower of two estimates that an arm
+        # can only push up: the top of the outline without its thin parts (an arm across the
+        # chest stays inside it), and the crown of the head less the head and neck.
         plane = mask & (g.z > ref - o.plane_band_mm)
         core = self._open(plane, kernel)
         if core.sum() < 4:
             core = plane if plane.any() else mask
+        outline = self._open(mask, kernel)
         if outline.sum() < 4:
             outline = core
-        top = float(np.percentile(g.y[outline], 98))
-        shoulder_y = top - o.shoulder_below_core_top_mm
-        trunk = core & (g.y > shoulder_y - o.trunk_height_mm)
+        centre_x = float(np.median(g.x[core]))
+        shoulder_y = float(np.percentile(g.y[outline], 98)) - o.shoulder_below_core_top_mm
+        column = mask & (np.abs(g.x - centre_x) < o.head_radius_mm) & (np.abs(g.z - ref) < o.plane_band_mm)
+        crown = self._crown(g.y, column)
+        if crown is not None:
+            shoulder_y = min(shoulder_y, crown - o.shoulder_below_crown_mm)
+        trunk = core & (g.y > shoulder_y - o.trunk_height_mm) & (g.y < shoulder_y)
         if not trunk.any():
             trunk = core
-        tx = float(np.median(g.x[trunk]))
-        surface = float(np.median(g.z[trunk]))
+        tx, shoulder_y, surface = self._frame(t, np.array([np.median(g.x[trunk]), shoulder_y,
+                                                           np.median(g.z[trunk])]))
         self._surface_z = surface
         torso = np.array([tx, shoulder_y - o.spine_below_shoulder_mm, surface + o.joint_depth_mm])
-        head = self._head(seg, tx, shoulder_y, surface, torso)
+        head_cells = column & (g.y > shoulder_y + 100)
+        if crown is None or not head_cells.any():
+            head = np.array([tx, shoulder_y + o.shoulder_below_crown_mm - o.crown_above_head_mm, torso[2]])
+        else:
+            head = np.array([np.median(g.x[head_cells]), crown - o.crown_above_head_mm,
+                             np.median(g.z[head_cells]) + o.joint_depth_mm])
+        head = self._head_filter(t, head)
         return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface, core)
 
     @staticmethod
-    def _open(mask: np.ndarray, kernel: np.ndarray) -> np.ndarray:
-        """What remains of `mask` after removing everything thinner than the kernel."""
-        return cv2.morphologyEx(mask.view(np.uint8), cv2.MORPH_OPEN, kernel).view(bool) & mask
+    def _crown(y: np.ndarray, column: np.ndarray) -> float | None:
+        """Height (mm) of the highest row of the head's column with two or more cells (one is noise)."""
+        rows = np.flatnonzero(column.sum(axis=1) >= 2)
+        if rows.size == 0:
+            return None
+        top = rows[0]
+        return float(np.median(y[top][column[top]]))
 
-    def _head(self, seg: Segment, tx: float, shoulder_y: float, surface: float, torso: np.ndarray) -> np.ndarray:
-        o, g = self.options, seg.grid
-        near = (seg.mask & (g.y > shoulder_y + 50) & (g.y < shoulder_y + 500)
-                & (np.abs(g.x - tx) < o.head_radius_mm) & (np.abs(g.z - surface) < 300))
-        if near.sum() < 3:
-            return np.array([tx, shoulder_y + 250.0, torso[2]])
-        crown = float(np.percentile(g.y[near], 95))
-        return np.array([float(np.median(g.x[near])), crown - o.crown_above_head_mm,
-                         float(np.median(g.z[near])) + o.joint_depth_mm])
+    @staticmethod
+    def _open(mask: np.ndarray, kernel: np.ndarray) -> np.ndarray:
+        """What remains of `mask` after removing everything thinner than the kernel; one-cell holes
+        (missing readings, the shadow a depth sensor casts beside an arm) are filled first."""
+        filled = cv2.morphologyEx(mask.view(np.uint8), cv2.MORPH_CLOSE, _HOLE)
+        return cv2.morphologyEx(filled, cv2.MORPH_OPEN, kernel).view(bool)

@@ -13,30 +13,35 @@ import time
 from collections import deque
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
 
 from backends.network import wire
 from backends.network.publisher import endpoints
 from host import Backend, DepthFrame, Frame, Gesture, PluginUnavailable
+from host.errors import UserError
 
 POLL_MS = 100
 
 
 class NetworkOptions(BaseModel):
     model_config = ConfigDict(extra="forbid")
-    connect: str = "tcp://127.0.0.1:5555"  # with transport = "ros": the master URI (default $ROS_MASTER_URI)
     transport: Literal["zmq", "ros"] = "zmq"
-    depth: bool = True
-    depth_wait_ms: float = Field(40.0, ge=0, le=1000)
-    end_with_publisher: bool = False
-    namespace: str = "/openiss"
-    ros_depth: Literal["frame", "image"] = "frame"
+    connect: str = "tcp://127.0.0.1:5555"  # with transport = "ros": the master URI (default $ROS_MASTER_URI)
+    depth: bool = True  # false: hands and gestures only (the depth connection is not even opened)
+    depth_wait_ms: float = Field(40.0, ge=0, le=1000)  # how long a frame may wait for its own depth image
+    end_with_publisher: bool = False  # true: the show ends when the publisher says goodbye
+    namespace: str = "/openiss"  # ROS topic namespace
+    ros_depth: Literal["frame", "image"] = "frame"  # ROS depth topic: openiss/DepthFrame or sensor_msgs/Image
 
-    @model_validator(mode="after")
-    def _address(self) -> "NetworkOptions":
-        if self.transport == "zmq":
-            endpoints(self.connect)  # raises with the expected form
-        return self
+    @field_validator("connect")
+    @classmethod
+    def _address(cls, value: str, info: ValidationInfo) -> str:
+        if info.data.get("transport") == "zmq":
+            try:
+                endpoints(value)
+            except ValueError:
+                raise ValueError("expected tcp://HOST:PORT such as tcp://127.0.0.1:5555 (depth uses PORT + 1)") from None
+        return value
 
 
 class NetworkBackend(Backend):
@@ -58,7 +63,10 @@ class NetworkBackend(Backend):
         o = self.options
         if o.transport == "ros":
             from backends.network.ros import RosSubscriber
-            self.transport = RosSubscriber(o.connect, o.namespace, depth=o.depth, depth_topic=o.ros_depth)
+            try:
+                self.transport = RosSubscriber(o.connect, o.namespace, depth=o.depth, depth_topic=o.ros_depth)
+            except PluginUnavailable as error:
+                raise UserError(f"backend 'network' (transport = \"ros\"): {error}") from None
         else:
             from backends.network.subscriber import ZmqSubscriber
             self.transport = ZmqSubscriber(o.connect, depth=o.depth)

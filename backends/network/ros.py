@@ -42,7 +42,7 @@ geometry_msgs/Point gesture_position
 uint8 gesture_state
 uint16 hand_id
 uint8 hand_side
-float32 confidence
+float64 confidence
 float64 source_time
 uint32 frame_seq
 """,
@@ -53,7 +53,7 @@ geometry_msgs/Point hand_position
 uint8 hand_status
 uint8 hand_side
 uint16 user_id
-float32 confidence
+float64 confidence
 """,
     "Hands": """# The tracked hands of one frame
 Header header
@@ -131,6 +131,7 @@ _node_lock = threading.Lock()
 
 def node(master: str | None) -> None:
     """One rospy node per process (rospy's rule), shared by publishers and subscribers."""
+    import rosgraph
     import rospy
     with _node_lock:
         if rospy.core.is_initialized():
@@ -138,6 +139,11 @@ def node(master: str | None) -> None:
         if master and master.startswith("http://"):
             os.environ["ROS_MASTER_URI"] = master
         os.environ.setdefault("ROS_MASTER_URI", "http://127.0.0.1:11311")
+        try:  # rospy would wait for a missing master forever; say so instead
+            rosgraph.Master("/issv").getPid()
+        except Exception as error:
+            raise PluginUnavailable(f"no ROS master answers at {os.environ['ROS_MASTER_URI']} ({error}): "
+                                    "start `roscore` there, or name another with ROS_MASTER_URI") from None
         rospy.init_node("issv", anonymous=True, disable_signals=True)
 
 

@@ -4,10 +4,13 @@
 arrived, what was lost (gaps in the sequence numbers, and the tail the publisher's heartbeats
 announce), duplicates, and the capture-to-arrival latency; it notices a publisher restart (a new
 session) and says so once; malformed messages are counted per kind and reported once per kind.
-Latency across machines is only as good as the two clocks' agreement (run NTP or chrony).
+Loss counts from the first message a subscriber gets: what was sent before it joined (ZeroMQ's
+"slow joiner") was never meant for it. Latency across machines is only as good as the two clocks'
+agreement (run NTP or chrony).
 """
 from __future__ import annotations
 
+import math
 import sys
 import time
 from array import array
@@ -182,7 +185,7 @@ class ZmqSubscriber:
 
     def poll(self, timeout_ms: float) -> list[wire.Message]:
         """Messages that arrived within `timeout_ms`: events first (in order), then depth."""
-        ready = dict(self.poller.poll(max(0, int(timeout_ms))))
+        ready = dict(self.poller.poll(max(0, math.ceil(timeout_ms))))
         out: list[wire.Message] = []
         for socket in (self.events, self.depth):
             if socket is None or socket not in ready:

@@ -91,7 +91,6 @@ class DigiEVISS(Effect):
         self.scene = Scene([Sphere(ob.id, ob.data, pos, rad) for ob, (pos, rad) in zip(self.observations, places)],
                            o.planar, o.lost_release_s, o.hold_timeout_s)
         self.written: str | None = None
-        self._t = 0.0
         self.view = None
         if stage.ctx is not None:
             from effects.digieviss.view import SceneView  # moderngl only when there is a renderer
@@ -108,12 +107,12 @@ class DigiEVISS(Effect):
             chosen = [(s.position, s.radius) for s in o.spheres]
         cx, cy, cz = o.row_center
         first = cx - o.spacing_mm * (len(found) - 1) / 2
-        places = [(pos or (first + i * o.spacing_mm, cy, cz), rad or o.radius_mm) for i, (pos, rad) in enumerate(chosen)]
+        places = [(pos or (first + i * o.spacing_mm, cy, cz), rad or o.radius_mm)
+                  for i, (pos, rad) in enumerate(chosen)]
         return found, places
 
     # -- input -------------------------------------------------------------------------------
     def on_frame(self, frame: Frame) -> None:
-        self._t = frame.timestamp
         hands = {h.id: h.position for h in frame.hands if h.state not in (HandState.LOST, HandState.ABSENT)}
         changed = self.scene.update(hands, frame.timestamp)
         self._flush_log()

@@ -67,8 +67,8 @@ class OscOptions(BaseModel):
     @classmethod
     def _prefix(cls, value):
         if value and (not value.startswith("/") or value.endswith("/") or any(c in value for c in " #*?,[]{}")):
-            raise ValueError(f"expected an OSC address part such as /issv (starts with /, no spaces or "
-                             f"# * ? , [ ] {{ }}), got {value!r}")
+            raise ValueError("expected an OSC address part such as /issv (starts with /, does not end "
+                             "with /, no spaces or # * ? , [ ] { })")
         return value
 
     @model_validator(mode="after")
@@ -77,7 +77,7 @@ class OscOptions(BaseModel):
             raise ValueError('scheme "custom" sends only the templates: add [[effects.messages]] tables')
         near, far = self.depth_range
         if not 0 <= near < far:
-            raise ValueError(f"depth_range must be [near, far] millimetres with near < far, got {list(self.depth_range)}")
+            raise ValueError("depth_range must be [near, far] millimetres with 0 <= near < far")
         return self
 
 

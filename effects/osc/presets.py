@@ -122,7 +122,7 @@ class SynapseScheme(Scheme):
     def __init__(self, prefix: str = "") -> None:
         self.prefix = prefix
         self._tracking = False
-        self._joint_of: dict[int, str] = {}
+        self._joint_of: dict[int, str] = {}  # hand id -> joint, in the last frame
 
     def frame(self, frame: Frame, hands: list[Hand], gone: list[Hand], to: Projector) -> list[Message]:
         p = self.prefix
@@ -136,8 +136,10 @@ class SynapseScheme(Scheme):
         screen = None
         if to.depth is not None:
             screen = to.depth.intrinsics.scaled(self.SCREEN[0] / to.depth.width, self.SCREEN[1] / to.depth.height)
-        for hand, side in sided(hands):
-            joint = self._joint_of[hand.id] = self.JOINTS[side]
+        pairs = sided(hands)
+        self._joint_of = {hand.id: self.JOINTS[side] for hand, side in pairs}
+        for hand, side in pairs:
+            joint = self.JOINTS[side]
             messages.append(Message(f"{p}/{joint}_pos_world", tuple(("f", c) for c in hand.position)))
             if screen is not None:
                 x, y, z = hand.position

@@ -13,7 +13,6 @@ from host.compare import run_backend
 from host.errors import UserError
 from host.plugins import default_registry
 from host.recording import Recording
-from host.recording import codec
 from host.status import stderr
 
 HELP = "run several backends on the identical depth of a recording and write a Markdown report with plots"
@@ -38,12 +37,9 @@ def describe(path: Path) -> report.RecordingInfo:
     with Recording(path) as rec:
         first = last = None
         frames = 0
-        for topic, message, offset in rec._messages(0.0):
-            if topic == codec.DEPTH:
-                with rec._at(offset, topic):
-                    header = codec.decode_depth(message.data)
-                first = first or header
-                last, frames = header, frames + 1
+        for header, _ in rec.depth_headers():
+            first = first or header
+            last, frames = header, frames + 1
         if first is None:
             raise UserError(f"{path}: the recording has no depth images to compare backends on")
         return report.RecordingInfo(path, frames, last.t - first.t, (int(first.doc["width"]), int(first.doc["height"])),

@@ -101,6 +101,8 @@ def play(show: Show, status: StatusLine) -> Metrics:
 
 def check_sensor(show: Show) -> None:
     """A backend that failed mid-show ends the command with one clear line."""
-    if show.sensor_error is not None:
-        err = show.sensor_error
+    err = show.sensor_error
+    if isinstance(err, UserError):  # already one clear line (a damaged recording, a missing file)
+        raise err
+    if err is not None:
         raise UserError(f"issv: backend {show.backend.name!r} failed: {type(err).__name__}: {err}")

@@ -118,7 +118,11 @@ def make_publisher(args: argparse.Namespace, backend: str):
     depth = DepthOptions(not args.no_depth, args.codec, max(1, args.downscale), args.crop, args.depth_fps)
     if args.transport == "ros":
         from backends.network.ros import RosPublisher
-        return RosPublisher(args.bind, args.namespace, depth, backend)
+        from host.contracts import PluginUnavailable
+        try:
+            return RosPublisher(args.bind, args.namespace, depth, backend)
+        except PluginUnavailable as error:
+            raise UserError(f"issv serve --transport ros: {error}") from None
     from backends.network.publisher import Publisher
     return Publisher(args.bind or DEFAULT_BIND, depth, backend)
 

@@ -101,10 +101,11 @@ class Recording:
                             f"{type(error).__name__}: {error}") from None
 
     def _records(self, offset: int) -> Iterator[_Record]:
-        """Top-level records from `offset` to the end of the data section, or to where the file stops."""
+        """Top-level records from `offset` to the end of the data section, or to where the file stops.
+        Seeks before every read, so that several iterations over one file may interleave."""
         f = self._file
-        f.seek(offset)
         while True:
+            f.seek(offset)
             head = f.read(9)
             if len(head) < 9:
                 return self._cut(offset)
@@ -129,7 +130,7 @@ class Recording:
     def _read_preamble(self) -> None:
         """Header and metadata: written before the first chunk."""
         for record in self._records(8):
-            with self._at(record.offset, "header"):
+            with self._at(record.offset, "the header record there"):
                 if record.opcode == Opcode.HEADER:
                     self.library = Header.read(record.stream()).library
                 elif record.opcode == Opcode.METADATA:
@@ -151,15 +152,15 @@ class Recording:
             offset = min((c.chunk_start_offset for c in later), default=self.size)
         for record in self._records(offset):
             if record.opcode == Opcode.CHANNEL:
-                with self._at(record.offset, "channel"):
+                with self._at(record.offset, "the channel record there"):
                     channel = Channel.read(record.stream())
                 channels[channel.id] = channel.topic
             elif record.opcode == Opcode.MESSAGE:
-                with self._at(record.offset, "message"):
+                with self._at(record.offset, "the message record there"):
                     inner = [Message.read(record.stream(), len(record.body))]
                 yield from self._keep(inner, channels, target, record.offset)
             elif record.opcode == Opcode.CHUNK:
-                with self._at(record.offset, "chunk"):
+                with self._at(record.offset, "the chunk record there"):
                     inner = breakup_chunk(Chunk.read(record.stream()), validate_crc=True)
                 for r in inner:
                     if isinstance(r, Channel):
@@ -191,7 +192,7 @@ class Recording:
         decoded: DepthFrame | None = None
         gestures = []
         for topic, message, offset in self._messages(start):
-            with self._at(offset, topic):
+            with self._at(offset, f"a {topic} message in the record there"):
                 if topic == codec.DEPTH:
                     depth, decoded = codec.decode_depth(message.data), None
                 elif topic == codec.GESTURES:
@@ -207,19 +208,25 @@ class Recording:
                                 tuple(gestures), str(doc.get("backend", "")))
                     gestures = []
 
-    def depth_frames(self, start: float = 0.0) -> Iterator[DepthFrame]:
-        """The depth images alone (for re-tracking by another backend), with their ground truth."""
+    def depth_headers(self, start: float = 0.0) -> Iterator[tuple[codec.DepthHeader, int]]:
+        """Each depth message's header, pixels still compressed, and the offset of its record."""
         for topic, message, offset in self._messages(start):
             if topic == codec.DEPTH:
-                with self._at(offset, topic):
-                    yield codec.decode_depth(message.data).decode()
+                with self._at(offset, f"a {topic} message in the record there"):
+                    yield codec.decode_depth(message.data), offset
+
+    def depth_frames(self, start: float = 0.0) -> Iterator[DepthFrame]:
+        """The depth images alone (for re-tracking by another backend), with their ground truth."""
+        for header, offset in self.depth_headers(start):
+            with self._at(offset, f"a {codec.DEPTH} message in the record there"):
+                yield header.decode()
 
     def metrics(self) -> list[dict]:
         """The metrics documents recorded during the show (the last one is final if it ended cleanly)."""
         out = []
         for topic, message, offset in self._messages(0.0):
             if topic == codec.METRICS:
-                with self._at(offset, topic):
+                with self._at(offset, f"a {topic} message in the record there"):
                     out.append(codec.decode_json(message.data))
         return out
 

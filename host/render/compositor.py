@@ -9,8 +9,8 @@ draws through `target.to_clip` (their class says `keystone_aware = True`): the h
 that matrix and shapes land warped on the output directly. Otherwise the stage is a texture that
 `warp.py` draws onto the output in one last pass.
 
-Effects draw premultiplied colour (rgb * alpha, alpha) and leave the blend state as they find
-it: so normal, add, screen and multiply mean the same, however many shapes an effect draws.
+Effects draw premultiplied colour (rgb * alpha, alpha) and leave the blend state as the host
+set it; an effect's own overlapping shapes combine with its blend mode too.
 """
 from __future__ import annotations
 
@@ -27,6 +27,7 @@ def pixels_to_clip(size: tuple[int, int], keystone: np.ndarray | None = None) ->
     m = np.array([[2 / w, 0, -1], [0, -2 / h, 1], [0, 0, 1]], np.float64)
     return m if keystone is None else m @ keystone
 
+
 # (source factor, destination factor) for premultiplied colour s over the stage d.
 BLEND_FUNCS = {
     "normal": (moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA),   # s + d (1 - sa)
@@ -34,7 +35,6 @@ BLEND_FUNCS = {
     "screen": (moderngl.ONE, moderngl.ONE_MINUS_SRC_COLOR),   # s + d (1 - s) = 1 - (1 - s)(1 - d)
     "multiply": (moderngl.DST_COLOR, moderngl.ONE_MINUS_SRC_ALPHA),  # s d + d (1 - sa)
 }
-# "replace" (no blending) is used for the first effect on the black stage, where it is exact.
 
 QUAD_VERTEX = """
 #version 330
@@ -81,9 +81,6 @@ class Layer:
     def use(self) -> None:
         """Binds the framebuffer and the blending again (after drawing into a texture of your own)."""
         self.fbo.use()
-        if self.blend == "replace":
-            self.ctx.enable_only(moderngl.NOTHING)
-            return
         self.ctx.enable_only(moderngl.BLEND)
         self.ctx.blend_equation = moderngl.FUNC_ADD
         self.ctx.blend_func = BLEND_FUNCS[self.blend]
@@ -101,7 +98,6 @@ class Compositor:
     def __init__(self, ctx: moderngl.Context, size: tuple[int, int], textures: FrameTextures) -> None:
         self.ctx = ctx
         self.size = size
-        self.textures = textures
         self.prog = ctx.program(vertex_shader=QUAD_VERTEX, fragment_shader=OPACITY_FRAGMENT)
         self.vbo = ctx.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], "f4").tobytes())
         self.vao = ctx.vertex_array(self.prog, [(self.vbo, "2f", "in_pos")])
@@ -118,16 +114,13 @@ class Compositor:
         self.ctx.enable_only(moderngl.NOTHING)
         stage.clear(0.0, 0.0, 0.0, 1.0)
         self.stage = stage
-        self.empty = True
         self.target.frame, self.target.time, self.target.dt = frame, time, dt
 
     def before(self, blend: str, opacity: float) -> Layer:
         """Binds where the next effect draws: the stage itself, or a cleared layer if translucent."""
         target = self.target
         if opacity >= 1.0:
-            # On the black stage, normal, add and screen all give the source itself: skip blending.
-            first = self.empty and blend != "multiply"
-            target.fbo, target.blend = self.stage, "replace" if first else blend
+            target.fbo, target.blend = self.stage, blend
         else:
             target.fbo, target.blend = self._translucent_fbo(), "normal"
             target.fbo.use()
@@ -137,7 +130,6 @@ class Compositor:
 
     def after(self, blend: str, opacity: float) -> None:
         """Blends a translucent effect's layer onto the stage."""
-        self.empty = False
         if opacity >= 1.0:
             return
         self.stage.use()

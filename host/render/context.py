@@ -4,8 +4,10 @@ A surface owns the moderngl context and the final framebuffer; `present()` ends 
 """
 from __future__ import annotations
 
+import ctypes
 import os
 import sys
+from typing import Callable
 
 import moderngl
 
@@ -22,12 +24,13 @@ class Headless:
 
     def __init__(self, size: tuple[int, int]) -> None:
         self.ctx = headless_context()
+        self._finish = unlocked_finish() or self.ctx.finish
         self.size = size
         self.fbo = self.ctx.framebuffer([self.ctx.renderbuffer(size, 4)])
 
     def present(self) -> None:
         """Waits for the GPU (or llvmpipe) so frame times are real and latency stays bounded."""
-        self.ctx.finish()
+        self._finish()
 
     def close(self) -> None:
         self.fbo.release()
@@ -42,6 +45,22 @@ def headless_context() -> moderngl.Context:
                         f"context through EGL ({error}); {EGL_FIX}") from None
 
 
+def unlocked_finish() -> Callable[[], None] | None:
+    """glFinish called through ctypes, which lets go of the GIL while it waits.
+
+    moderngl holds the GIL in every call; llvmpipe renders on its own threads, so `ctx.finish()`
+    would stall the sensor thread (tracking, in Python) for the whole frame's rasterisation.
+    """
+    try:
+        egl = ctypes.CDLL("libEGL.so.1")
+        egl.eglGetProcAddress.restype = ctypes.c_void_p
+        egl.eglGetProcAddress.argtypes = [ctypes.c_char_p]
+        address = egl.eglGetProcAddress(b"glFinish")
+    except (OSError, AttributeError):
+        return None
+    return ctypes.CFUNCTYPE(None)(address) if address else None
+
+
 class Window:
     """A moderngl-window window on pyglet (moderngl-window's default backend, pure Python wheels);
     fullscreen on the chosen monitor for the projector. Escape or closing the window ends the show."""
@@ -50,6 +69,7 @@ class Window:
         from moderngl_window.context.pyglet import Window as PygletWindow
 
         self.wnd = PygletWindow(title=title, size=size, resizable=False, vsync=False, gl_version=(3, 3))
+        self.wnd.fullscreen_key = None  # the stage keeps its size: fullscreen is the profile's choice
         if fullscreen:
             self._fullscreen_on(monitor)
         self.ctx = self.wnd.ctx

@@ -34,7 +34,7 @@ void main() { color = texture(text, uv); }
 def lines(m: Metrics) -> list[str]:
     sfps, rfps = m.live()
     lat = m.latency(recent=120)
-    last = ", ".join(g.name for g in m.last_gestures) or "-"
+    last = ", ".join(g.name for g in list(m.last_gestures)[-3:]) or "-"
     return [f"backend {m.backend}",
             f"sFPS {sfps:5.1f}  rFPS {rfps:5.1f}  eff {(sfps + rfps) / 2:5.1f}",
             f"latency p50 {lat['p50']:5.1f} ms  p99 {lat['p99']:5.1f} ms",

@@ -1,4 +1,4 @@
-"""The renderer the show loop drives: effects' layers -> composite + keystone -> HUD -> outputs.
+"""The renderer the show loop drives: effects -> stage (blend, opacity, keystone) -> HUD -> outputs.
 
 The loop calls `render(show, frame)` once per tick and `close()` at the end; `wants_stop` turns
 True when the window is closed. A render effect that raises is disabled with one message and the
@@ -11,18 +11,18 @@ from array import array
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from host.render.calibration import check_calibration, check_keystone, keystone_matrix
 from host.render.compositor import Compositor, pixels_to_clip
 from host.render.context import Headless, Window, open_surface
 from host.render.hud import Hud
-from host.render.outputs import VideoOutput, check_folder, read_bgr, save_snapshot
+from host.render.outputs import VideoOutput, check_folder, save_snapshot
 from host.render.textures import FrameTextures
 from host.render.warp import Keystone
 
 
 class Renderer:
+    """Owns the surface, the shared sensor textures, the stage, the HUD and the output files."""
+
     def __init__(self, surface: Headless | Window, output: Any, keystone=None) -> None:
         self.surface = surface
         self.ctx = surface.ctx
@@ -37,6 +37,7 @@ class Renderer:
         self.frame_ms = array("d")  # time spent in each render() call, for bench/render.py
         self._start: float | None = None
         self._last = 0.0
+        self._planned: tuple = ()
 
     @classmethod
     def create(cls, output: Any, stage: Any) -> "Renderer":
@@ -61,8 +62,9 @@ class Renderer:
         now, dt = t0 - self._start, (t0 - self._start) - self._last
         self._last = now
         self.textures.frame = frame
-        if self._start == t0:
-            self._plan(show)
+        drawing = tuple(s.effect for s in show.effects if s.effect.renders)
+        if drawing != self._planned:  # the first frame, or a live reload changed the stack
+            self._plan(drawing)
         stage = self.keystone.stage if self.keystone else self.surface.fbo
         self.compositor.begin(stage, frame, now, dt)
         for slot in show.effects:
@@ -79,24 +81,24 @@ class Renderer:
             self.keystone.draw(self.surface.fbo)
         if self.hud is not None:
             self.hud.draw(show.metrics, self.surface.fbo)
+        self.surface.present()  # waits for the frame with the GIL released: read it back after
         if self.video is not None:
             self.video.write(self.surface.fbo)
-        self.surface.present()
         self.frame_ms.append((time.perf_counter() - t0) * 1000.0)
 
-    def _plan(self, show: Any) -> None:
+    def _plan(self, drawing: tuple) -> None:
         """Keystone in the effects' own matrix when they all draw through it, else a warp pass."""
+        self._planned = drawing
         if not self.corners:
             return
-        drawing = [s.effect for s in show.effects if s.effect.renders]
         if all(getattr(effect, "keystone_aware", False) for effect in drawing):
             self.compositor.target.to_clip = pixels_to_clip(self.size, keystone_matrix(self.corners, self.size))
+            if self.keystone is not None:
+                self.keystone.release()
+                self.keystone = None
         else:
-            self.keystone = Keystone(self.ctx, self.size, self.corners)
-
-    def image(self) -> np.ndarray:
-        """The last frame as shown: (H, W, 3) uint8 BGR, row 0 at the top."""
-        return read_bgr(self.surface.fbo)
+            self.compositor.target.to_clip = pixels_to_clip(self.size)
+            self.keystone = self.keystone or Keystone(self.ctx, self.size, self.corners)
 
     def close(self) -> None:
         try:

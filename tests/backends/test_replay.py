@@ -23,12 +23,16 @@ def replayed(path, limit=10_000, **options) -> list:
     return frames
 
 
-def test_replay_gives_the_same_hands_and_gestures_at_the_same_timestamps(recording):
-    live = tracked_live(4.0)
+@pytest.mark.parametrize("backend", ["truth", "openiss"])
+def test_replay_gives_the_same_hands_and_gestures_at_the_same_timestamps(recording, tmp_path, backend):
+    if backend != "truth":  # the open engine, tracking the synthetic performer's depth
+        recording = record(tmp_path, seconds=4.0, backend=backend, width=320, height=240)
+    source = {} if backend == "truth" else {"width": 320, "height": 240}
+    live = tracked_live(4.0, backend, **source)
     played = replayed(recording)
     assert as_tracked(played) == as_tracked(live)
-    assert any(f.gestures for f in played) and all(f.hands for f in played)
-    assert {f.backend for f in played} == {"truth"}
+    assert any(f.gestures for f in played) and sum(bool(f.hands) for f in played) > len(played) / 2
+    assert {f.backend for f in played} == {backend}
     for a, b in zip(played[::40], live[::40]):
         assert np.array_equal(a.depth.data, b.depth.data) and a.depth.intrinsics == b.depth.intrinsics
 

@@ -4,6 +4,7 @@ import pytest
 
 from effects.depth_view import DepthView
 from effects.isf import Isf, IsfError, IsfShader
+from host.cli import main
 from tests.host.render.stage import frames_with_hand, gesture_at, lit, requires_gl, run_show
 
 SIZE = (320, 240)
@@ -54,12 +55,23 @@ def test_multi_pass_shaders_are_refused_with_the_reason(tmp_path):
         IsfShader(path)
 
 
-@requires_gl
-def test_binding_an_input_the_shader_does_not_have_is_refused(tmp_path, capsys):
+def test_bindings_are_checked_with_the_profile(tmp_path, capsys):
     path = write(tmp_path, "ok.fs", GOOD_HEADER + "void main() { gl_FragColor = vec4(1.0); }\n")
-    _, show, _ = run_show([isf(file=str(path), bind={"nowhere": "hand.right"})], frames_with_hand([HAND]), tmp_path, SIZE)
-    assert "has no input 'nowhere'" in capsys.readouterr().err
-    assert not show.effects[0].enabled
+    profile = write(tmp_path, "show.toml", """
+backend = "truth"
+[source]
+name = "clip"
+path = "clip.npz"
+[[effects]]
+name = "isf"
+file = "ok.fs"
+bind = { nowhere = "hand.right", where = "depth" }
+""")
+    assert main(["check", str(profile)]) == 2
+    err = capsys.readouterr().err
+    assert f"effects[0]: {path}: has no input 'nowhere'" in err
+    with pytest.raises(ValueError, match=r"input 'where' \(point2D\) cannot be bound to 'depth'"):
+        Isf.Options(file=str(path), bind={"where": "depth"})
 
 
 def test_exactly_one_of_shader_or_file():
@@ -83,10 +95,10 @@ def test_hand_glow_shines_where_the_hand_is(tmp_path, scale):
 
 @requires_gl
 def test_depth_contours_draw_only_where_there_is_depth(tmp_path):
-    image, _, _ = run_show([isf(shader="depth-contours", bind={"depthImage": "depth"})],
+    image, _, _ = run_show([isf(shader="depth-contours", bind={"depthImage": "depth"}, values={"body": 0.5})],
                            frames_with_hand([HAND] * 3), tmp_path, SIZE)
     box = image[40:220, 120:200]  # the performer box (depth pixels 60..100 x 20..110, doubled)
-    assert box.max() > 100
+    assert box.min() > 40  # the body fill over the whole (flat) box
     assert image[:, :110].max() == 0 and image[:, 210:].max() == 0
 
 

@@ -78,7 +78,8 @@ def test_the_synthetic_performer_plays_it_through_the_host(tmp_path, capsys):
                     '{action = "swipe_left", hand = "left"}, {action = "idle", duration = 1.0}]\n',
                     str(tmp_path / "p.toml"), tmp_path)
     effect = SwipeSnake()
-    Show(make_backend(profile, realtime=False), [EffectSlot(effect, "effects[0]")], Stage((64, 48), 1000.0, "truth")).run()
+    stage = Stage((64, 48), 1000.0, "truth")
+    Show(make_backend(profile, realtime=False), [EffectSlot(effect, "effects[0]")], stage).run()
     game = effect.game
     assert game.direction is Direction.LEFT and game.alive and game.steps > 5
     xs = [x for x, _ in game.body]

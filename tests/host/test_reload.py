@@ -124,3 +124,61 @@ def test_no_reload_flag_ignores_edits(tmp_path):
     finally:
         show.send_signal(signal.SIGINT)
         show.wait(timeout=20)
+
+
+def test_an_effect_package_reloads_whole_and_unchanged_effects_keep_their_state(tmp_path, monkeypatch):
+    """In-process: editing a submodule of an effect's package rebuilds the effect; a broken edit
+    restores every module as it was; a profile edit elsewhere keeps the running instance."""
+    from effects.console import ConsoleEffect
+    from host import Backend, Stage
+    from host.assemble import make_effects
+    from host.loop import Show
+    from host.plugins import Registry
+    from host.profile import load
+    from host.reload import Reloader
+
+    class Idle(Backend):
+        name = "idle"
+        needs_source = False
+
+    pkg = tmp_path / "probe_pkg"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("from probe_pkg.effect import Probe\n")
+    (pkg / "effect.py").write_text("from host import Effect\nfrom probe_pkg.words import WORD\n\n\n"
+                                   "class Probe(Effect):\n    name = 'probe'\n\n"
+                                   "    def setup(self, stage):\n        self.word = WORD\n")
+    words = pkg / "words.py"
+    words.write_text('WORD = "one"\n')
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import probe_pkg
+    try:
+        registry = Registry()
+        for kind, cls in (("effects", probe_pkg.Probe), ("effects", ConsoleEffect), ("backends", Idle)):
+            registry.register(kind, cls, "test")
+        path = tmp_path / "show.toml"
+        path.write_text('backend = "idle"\n[[effects]]\nname = "probe"\n')
+        profile = load(path, registry)
+        show = Show(Idle(), make_effects(profile), Stage((64, 48), 30.0, "idle"))
+        show.effects[0].effect.setup(show.stage)
+        said = []
+        reloader = Reloader(profile, registry, interval=0.0, say=said.append)
+
+        words.write_text('WORD = "two!"\n')
+        reloader(show)
+        assert show.effects[0].effect.word == "two!", said
+        assert registry.get("effects", "probe").cls is sys.modules["probe_pkg.effect"].Probe
+
+        words.write_text("WORD = (\n")
+        reloader(show)
+        assert show.effects[0].effect.word == "two!"
+        assert sys.modules["probe_pkg.words"].WORD == "two!"  # put back as it was
+        assert "SyntaxError" in said[-1] and "words.py" in said[-1] and "\n" not in said[-1]
+
+        running = show.effects[0].effect
+        path.write_text('backend = "idle"\n[[effects]]\nname = "probe"\n[[effects]]\nname = "console"\n')
+        reloader(show)
+        assert show.effects[0].effect is running and [s.effect.name for s in show.effects] == ["probe", "console"]
+        assert said[-1] == "issv: reloaded show.toml: 1 effect(s) rebuilt, 1 kept"
+    finally:
+        for name in [n for n in sys.modules if n.startswith("probe_pkg")]:
+            del sys.modules[name]

@@ -3,7 +3,6 @@ import json
 import subprocess
 import sys
 import venv
-from pathlib import Path
 
 import pytest
 
@@ -23,9 +22,10 @@ def installed(tmp_path_factory):
     assert made.returncode == 0, made.stderr
     root = work / "issv-hand-glow"
     env_dir = work / "venv"
-    venv.create(env_dir, system_site_packages=True, with_pip=True)
+    venv.create(env_dir, system_site_packages=True, with_pip=False)  # this pip installs into it
     python = env_dir / "bin" / "python"
-    pip = run(python, "-m", "pip", "install", "-q", "--no-deps", "--no-build-isolation", root)
+    pip = run(sys.executable, "-m", "pip", "--python", python, "install", "-q", "--no-deps",
+              "--no-build-isolation", root)
     assert pip.returncode == 0, pip.stderr
     return python, root
 

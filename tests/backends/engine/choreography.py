@@ -141,9 +141,10 @@ def push(pushes: int = 1, travel: float = 400.0, pause: float = 0.4) -> Performa
     return Performance(hands, end + 0.5)
 
 
-def hand_raise(above_head: float = 150.0, hold: float = 1.0) -> Performance:
-    right = (rest(Side.RIGHT).hold(0.3).then(0.8, (200.0, HEAD_ABOVE_TORSO + above_head, -150.0))
-             .hold(hold).then(0.8, REST[Side.RIGHT]))
+def hand_raise(above_head: float = 150.0, hold: float = 1.0, move: float = 0.8) -> Performance:
+    """The right hand lifted in `move` s to `above_head` mm above the head's centre, held `hold` s."""
+    right = (rest(Side.RIGHT).hold(0.3).then(move, (200.0, HEAD_ABOVE_TORSO + above_head, -150.0))
+             .hold(hold).then(move, REST[Side.RIGHT]))
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 
 

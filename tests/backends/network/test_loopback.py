@@ -23,8 +23,8 @@ def subscriber(port: int, **options) -> NetworkBackend:
 def test_frames_arrive_whole_depth_bit_exact(serve, tmp_path):
     port = free_ports()
     stats_file = tmp_path / "sent.json"
-    serve(str(clip_profile(tmp_path, loop=False)), "--bind", f"tcp://127.0.0.1:{port}",
-          "--stats-json", str(stats_file))
+    server = serve(str(clip_profile(tmp_path, loop=False)), "--bind", f"tcp://127.0.0.1:{port}",
+                   "--stats-json", str(stats_file))
     clip = Clip(CLIP)
     truth = {tuple(p) for row in clip.hands for p in row}
     with subscriber(port, end_with_publisher=True, depth_wait_ms=500) as backend:
@@ -42,6 +42,7 @@ def test_frames_arrive_whole_depth_bit_exact(serve, tmp_path):
         assert all(h.position in truth for h in f.hands)
     assert stats["streams"]["hands"]["lost"] == 0
     assert stats["streams"]["hands"]["received"] == len(frames)
+    server.proc.wait(timeout=20)  # it writes its stats after saying goodbye
     sent = json.loads(stats_file.read_text())
     assert sent["sent"]["hands"] == 76 and sent["compression"] > 1
 

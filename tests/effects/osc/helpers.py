@@ -14,6 +14,7 @@ import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 from pythonosc.parsing.osc_types import get_string
@@ -22,6 +23,7 @@ from pythonosc.osc_bundle import OscBundle
 
 from backends.truth import TruthBackend
 from effects.osc import OscEffect
+from effects.osc.destinations import warn_stderr
 from host import DepthFrame, Intrinsics, Side, Source, Stage, Truth, TruthGesture
 from host.loop import EffectSlot, Limits, PacedSource, Show
 
@@ -50,7 +52,7 @@ class Script:
     """Frames 1..n; `hands` gives which sides are visible at a frame; gestures by frame interval."""
 
     n: int = 30
-    hands: callable = lambda i: (Side.LEFT, Side.RIGHT)
+    hands: Callable[[int], tuple[Side, ...]] = lambda i: (Side.LEFT, Side.RIGHT)
     gestures: tuple[TruthGesture, ...] = (TruthGesture("wave", Side.RIGHT, 5 / FPS, 9 / FPS),
                                           TruthGesture("swipe_left", Side.LEFT, 15 / FPS, 18 / FPS))
 
@@ -75,11 +77,9 @@ class ScriptedSource(Source):
         return DepthFrame(self.blank, K, i, t, truth=truth)
 
 
-def make_osc(warn=None, **options) -> OscEffect:
-    effect = OscEffect(OscEffect.Options.model_validate(options))
-    if warn is not None:
-        effect.warn = warn
-    return effect
+def make_osc(warn=warn_stderr, **options) -> OscEffect:
+    """The `osc` effect with options validated as a profile's would be."""
+    return OscEffect(OscEffect.Options.model_validate(options), warn=warn)
 
 
 def run_show(effects, script: Script | None = None, realtime: bool = False, fps: float = 240.0,
@@ -152,6 +152,10 @@ class Receiver:
             time.sleep(0.01)
         return predicate(self)
 
+    def has_frame(self, seq: int, address: str = "/issv/frame") -> bool:
+        """Whether the bundle of frame `seq` arrived (the last one of a show: all before it did)."""
+        return any(m[2][0] == seq for m in self.messages(address))
+
     def messages(self, address: str | None = None) -> list[tuple[str, str, list]]:
         return [m for p in list(self.packets) for m in p.messages if address is None or m[0] == address]
 
@@ -222,10 +226,11 @@ class OscDump:
     def address(self) -> str:
         return f"127.0.0.1:{self.port}"
 
-    def stop(self, expect: int = 0) -> list[list[str]]:
-        """The decoded lines after the probes, once `expect` of them arrived (or 5 s passed)."""
+    def stop(self, expect: int = 0, until=lambda lines: True) -> list[list[str]]:
+        """The decoded lines after the probes, once `expect` of them arrived and `until(lines)`
+        holds (or 5 s passed)."""
         deadline = time.time() + 5
-        while len(self._data()) < expect and time.time() < deadline:
+        while not (len(self._data()) >= expect and until(self._data())) and time.time() < deadline:
             time.sleep(0.02)
         self.proc.terminate()
         self.proc.wait(timeout=5)

@@ -14,7 +14,7 @@ def run_with(bad: str, receiver):
     effect = make_osc(destinations=[bad, receiver.address], warn=warnings.append)
     show = run_show([effect], realtime=True, script=SCRIPT)
     assert show.metrics.frames == SCRIPT.n and all(slot.enabled for slot in show.effects)
-    assert receiver.wait_for(lambda r: len(r.messages("/issv/frame")) == SCRIPT.n)
+    assert receiver.wait_for(lambda r: r.has_frame(SCRIPT.n))
     assert len(receiver.messages("/issv/gesture")) == 2  # the healthy destination lost nothing
     return effect, warnings
 
@@ -32,7 +32,8 @@ def test_a_port_nobody_listens_on(receiver):
     assert warnings == [f"destination {effect.destinations[0].address}: nothing is listening there (the port "
                         "refuses datagrams); still sending, a receiver started later will get the rest"]
     bad = effect.destinations[0]
-    assert bad.errors["ConnectionRefusedError"] >= 1 and bad.sent + sum(bad.errors.values()) == SCRIPT.n + 2
+    assert bad.errors["ConnectionRefusedError"] >= 1
+    assert bad.sent + sum(bad.errors.values()) == len(receiver.packets)  # every datagram went or was counted
 
 
 def test_a_port_in_use_by_a_tcp_service(receiver):
@@ -48,7 +49,7 @@ def test_a_port_in_use_by_a_program_that_never_reads(receiver):
         stuck.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1024)
         stuck.bind(("127.0.0.1", 0))
         effect, warnings = run_with(f"127.0.0.1:{stuck.getsockname()[1]}", receiver)
-    assert warnings == [] and effect.destinations[0].sent == SCRIPT.n + 2
+    assert warnings == [] and effect.destinations[0].sent == len(receiver.packets)
 
 
 def test_an_unreachable_host(receiver):

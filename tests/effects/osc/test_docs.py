@@ -4,6 +4,7 @@ import re
 import subprocess
 import sys
 
+from effects.osc import OscEffect
 from effects.osc.schema import SCHEMA_TEXT
 from host.cli import main
 from tests.effects.osc.helpers import ROOT
@@ -29,15 +30,17 @@ def test_osc_schema_is_a_real_command():
     assert out.returncode == 0 and out.stdout == SCHEMA_TEXT
 
 
-def test_the_readme_quotes_the_scheme_and_names_the_patches():
+def test_the_readme_quotes_the_scheme_the_presets_and_names_the_patches():
     readme = (ROOT / "README.md").read_text()
-    assert SCHEMA_TEXT in readme
+    for scheme in ("issv", "osceleton", "synapse", "custom"):
+        assert OscEffect.describe(scheme) in readme
     assert "patches/issv-receiver.pd" in readme and "patches/issv-receiver.maxpat" in readme
 
 
 def test_the_pd_patch_listens_on_9000_and_routes_the_scheme():
     objects = pd_objects()
-    assert "netreceive -u -b 9000" in objects and "oscparse" in objects
+    assert "netreceive -u -b" in objects and "oscparse" in objects
+    assert re.search(r"^#X msg \d+ \d+ listen 9000;$", PD, re.M)
     kinds = [a.split("/")[2] for a in DOCUMENTED]
     assert "route issv" in objects and f"route {' '.join(kinds)}" in objects
     as_pd = {a: t.replace("i", "f") for a, t in DOCUMENTED.items()}  # Pd numbers are floats

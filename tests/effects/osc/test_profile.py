@@ -1,6 +1,4 @@
 """profiles/osc.toml: the default scheme to 127.0.0.1:9000 from the synthetic performer."""
-from pathlib import Path
-
 from host import Stage
 from host.assemble import make_backend, make_effects
 from host.loop import Limits, Show
@@ -34,8 +32,8 @@ def test_the_profile_plays_to_a_receiver(oscdump):
         if resolved.ref.name == "osc":
             resolved.options = resolved.options.model_copy(update={"destinations": [oscdump.address]})
     backend = make_backend(profile, realtime=False)
-    show = Show(backend, make_effects(profile), Stage((640, 480), 240.0, backend.name), limits=Limits(frames=30))
+    show = Show(backend, make_effects(profile), Stage((640, 480), 240.0, backend.name), limits=Limits(frames=90))
     show.run()
-    lines = oscdump.stop(expect=3)
+    lines = oscdump.stop(until=lambda lines: any(line[1] == "/issv/hand" for line in lines))
     assert {"/issv/frame", "/issv/hand"} <= {line[1] for line in lines}
     assert {line[2] for line in lines if line[1] == "/issv/hand"} == {"issffff"}

@@ -13,7 +13,7 @@ SCRIPT = Script(n=10, gestures=())
 
 def right_hands(receiver) -> dict[int, list[float]]:
     """{frame index: [x, y, z]} of the right hand in every bundle received."""
-    assert receiver.wait_for(lambda r: any(m[2][0] == SCRIPT.n for m in r.messages("/issv/frame")))
+    assert receiver.wait_for(lambda r: r.has_frame(SCRIPT.n))
     out = {}
     for packet in receiver.packets:
         if packet.bundle:

@@ -1,0 +1,263 @@
+"""Gesture recognition: precision, recall, F1 and latency, on real recordings and synthetic shows.
+
+(a) real: the UTD-MHAD dev recordings (../shared/data/utd-mhad-dev), one performance per clip:
+    the recogniser alone on the skeleton's hand trajectories (CSV, as `issv gestures` reads them)
+    and the whole backend on the depth clips (as `issv track`). A clip of gesture g counts as a
+    true positive if g completes in it; g completing in a clip of another scored action (the
+    other gestures and the clearly different actions) is a false positive. False fires: clips of
+    the clearly different actions with any gesture. Latency (trajectories, swipes and push): from
+    the end of the stroke, read off the skeleton (the first instant after the hand's peak speed
+    when its speed is below a quarter of the peak), to COMPLETE.
+(b) synthetic: the synthetic performer's default show (every gesture, idles, two walks) over
+    varied performers (height, distance, speed, handedness, noise); events are matched to the
+    source's truth intervals (Truth.gestures): a COMPLETE of the same gesture between the
+    interval's start and 1 s after its end. Latency: COMPLETE minus the interval's end (negative:
+    recognised before the motion ended, as a wave is). Both the recogniser alone on the truth
+    hands and body, and the whole backend on the rendered depth.
+"""
+from __future__ import annotations
+
+import glob
+import os
+from collections import defaultdict
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from bench.common import parse_args, percentiles, report
+from host import GestureState
+from host.commands.gestures import read_trajectories
+from host.plugins import default_registry
+
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "utd-mhad-dev"
+POSITIVE = {"swipe_left": "swipe_left", "swipe_right": "swipe_right", "wave": "wave", "push": "click"}
+NEGATIVE = {"clap", "arm_curl", "jog", "walk", "sit2stand", "stand2sit", "lunge", "squat"}
+MATCH_AFTER_S = 1.0  # a COMPLETE up to this long after a truth interval's end still matches it
+PERFORMERS = {  # name -> synthetic source options
+    "default (1.75 m, 2.5 m away)": {},
+    "short, near (1.55 m, 1.8 m)": {"height_mm": 1550, "distance_mm": 1800},
+    "tall, far (1.95 m, 3.5 m)": {"height_mm": 1950, "distance_mm": 3500},
+    "left-handed": {"handedness": "left"},
+    "slow (speed 0.75)": {"speed": 0.75},
+    "fast (speed 1.3)": {"speed": 1.3},
+    "noisy sensor (x2.5)": {"noise": 2.5, "holes": 2.5},
+    "unmirrored camera": {"mirrored": False},
+}
+
+
+@dataclass
+class Tally:
+    """Per gesture: true positives, false positives, false negatives, latencies (s)."""
+
+    tp: dict[str, int] = field(default_factory=lambda: defaultdict(int))
+    fp: dict[str, int] = field(default_factory=lambda: defaultdict(int))
+    fn: dict[str, int] = field(default_factory=lambda: defaultdict(int))
+    latency: dict[str, list[float]] = field(default_factory=lambda: defaultdict(list))
+
+    def figures(self) -> dict[str, dict]:
+        out = {}
+        for g in sorted(set(self.tp) | set(self.fp) | set(self.fn)):
+            tp, fp, fn = self.tp[g], self.fp[g], self.fn[g]
+            p = tp / (tp + fp) if tp + fp else None
+            r = tp / (tp + fn) if tp + fn else None
+            f1 = 2 * p * r / (p + r) if p and r else (0.0 if p is not None and r is not None else None)
+            lat = self.latency.get(g, [])
+            out[g] = {"precision": p, "recall": r, "f1": f1, "tp": tp, "fp": fp, "fn": fn,
+                      "latency_s": percentiles(lat, (50, 90)) if lat else None}
+        return out
+
+
+def recognizer(backend: str):
+    return default_registry().get("backends", backend).cls.recognizer(None)
+
+
+def label_of(path: str) -> str:
+    return os.path.splitext(os.path.basename(path))[0].split("_", 3)[-1]
+
+
+def stroke_end(times: np.ndarray, positions: np.ndarray) -> float:
+    """End of a hand's main stroke: first instant after its peak speed with speed < peak / 4."""
+    speed = np.linalg.norm(np.diff(positions, axis=0), axis=1) / np.diff(times)
+    peak = int(np.argmax(speed))
+    after = np.nonzero(speed[peak:] < speed[peak] / 4)[0]
+    return float(times[peak + after[0] + 1]) if after.size else float(times[-1])
+
+
+def clip_tally(completed: dict[str, set[str]], labels: dict[str, str]) -> tuple[Tally, float, dict]:
+    """Clip-level tally over the scored clips, the false-fire rate on the negatives, fires elsewhere."""
+    tally, fires, negatives, elsewhere = Tally(), 0, 0, defaultdict(int)
+    for path, names in completed.items():
+        label = labels[path]
+        want = POSITIVE.get(label)
+        if label in POSITIVE or label in NEGATIVE:
+            for g in POSITIVE.values():
+                if g == want:
+                    tally.tp[g] += g in names
+                    tally.fn[g] += g not in names
+                elif g in names:
+                    tally.fp[g] += 1
+            for g in names - set(POSITIVE.values()):
+                tally.fp[g] += 1
+            if label in NEGATIVE:
+                negatives += 1
+                fires += bool(names)
+        else:
+            for g in names:
+                elsewhere[f"{label}:{g}"] += 1
+    return tally, (fires / negatives if negatives else float("nan")), dict(elsewhere)
+
+
+def real_trajectories(backend: str) -> dict:
+    files = sorted(glob.glob(str(DATA / "trajectories" / "*.csv")))
+    completed, labels, tally_latency = {}, {}, defaultdict(list)
+    for path in files:
+        label = labels[path] = label_of(path)
+        rec, names, times, hands = recognizer(backend), set(), [], defaultdict(list)
+        first_complete: dict[str, float] = {}
+        for frame in read_trajectories(Path(path)):
+            for g in rec.update(frame.t, frame.hands, frame.body, True):
+                if g.state is GestureState.COMPLETE:
+                    names.add(g.name)
+                    first_complete.setdefault(g.name, g.timestamp)
+            times.append(frame.t)
+            for h in frame.hands:
+                hands[h.side.value].append(h.position)
+        completed[path] = names
+        want = POSITIVE.get(label)
+        if want in first_complete and want != "wave":  # a wave has no single stroke to end
+            tracks = [np.array(p) for p in hands.values() if len(p) == len(times)]
+            t = np.array(times)
+            fastest = max(tracks, key=lambda p: float(np.max(np.linalg.norm(np.diff(p, axis=0), axis=1) / np.diff(t))))
+            tally_latency[want].append(first_complete[want] - stroke_end(t, fastest))
+    tally, fire_rate, elsewhere = clip_tally(completed, labels)
+    tally.latency = tally_latency
+    return {"gestures": tally.figures(), "false_fire_rate": fire_rate, "fires_on_other_actions": elsewhere,
+            "clips": len(files)}
+
+
+def real_clips(backend: str, limit: int | None) -> dict:
+    from sources.clip import ClipOptions, ClipSource
+
+    files = [f for f in sorted(glob.glob(str(DATA / "clips" / "*.npz")))
+             if label_of(f) in POSITIVE or label_of(f) in NEGATIVE][:limit]
+    cls = default_registry().get("backends", backend).cls
+    completed, labels = {}, {}
+    for path in files:
+        labels[path] = label_of(path)
+        names = set()
+        with cls(ClipSource(ClipOptions(path=path))) as b:
+            while (frame := b.update()) is not None:
+                names |= {g.name for g in frame.gestures if g.state is GestureState.COMPLETE}
+        completed[path] = names
+    tally, fire_rate, _ = clip_tally(completed, labels)
+    return {"gestures": tally.figures(), "false_fire_rate": fire_rate, "clips": len(files)}
+
+
+def match(events: list[tuple[float, str]], truth: list, tally: Tally) -> None:
+    """Pair COMPLETE events with truth intervals of the same gesture; the rest are errors."""
+    unmatched = list(events)
+    for g in sorted(truth, key=lambda g: g.end):
+        hit = next(((t, n) for t, n in unmatched if n == g.name and g.start <= t <= g.end + MATCH_AFTER_S), None)
+        if hit is None:
+            tally.fn[g.name] += 1
+        else:
+            unmatched.remove(hit)
+            tally.tp[g.name] += 1
+            tally.latency[g.name].append(hit[0] - g.end)
+    for _, name in unmatched:
+        tally.fp[name] += 1
+
+
+def show(cls, options, with_tracker: bool):
+    """(depth frame, the backend's gestures) per frame of a synthetic show; no gestures without tracker."""
+    from sources.synthetic import SyntheticSource
+
+    source = SyntheticSource(options)
+    if with_tracker:
+        with cls(source) as backend:
+            while (frame := backend.update()) is not None:
+                yield frame.depth, frame.gestures
+        return
+    source.open()
+    try:
+        while (depth := source.read()) is not None:
+            yield depth, ()
+    finally:
+        source.close()
+
+
+def synthetic(backend: str, performers: dict[str, dict], with_tracker: bool) -> dict:
+    """Per performer and overall: the recogniser on truth hands, and (with_tracker) the whole backend."""
+    from sources.synthetic import SyntheticOptions
+
+    cls = default_registry().get("backends", backend).cls
+    kinds = ("recogniser", "backend") if with_tracker else ("recogniser",)
+    overall = {kind: Tally() for kind in kinds}
+    per = {}
+    for label, options in performers.items():
+        rec, truth = recognizer(backend), {}
+        events: dict[str, list[tuple[float, str]]] = {kind: [] for kind in kinds}
+        for depth, gestures in show(cls, SyntheticOptions(seed=1, width=320, height=240, **options), with_tracker):
+            body = {k: v for k, v in depth.truth.body.items() if k in ("torso", "head")}
+            on_truth = rec.update(depth.timestamp, _truth_hands(depth), body, depth.mirrored)
+            for kind, found in (("recogniser", on_truth), ("backend", gestures)):
+                if kind in events:
+                    events[kind] += [(g.timestamp, g.name) for g in found if g.state is GestureState.COMPLETE]
+            for g in depth.truth.gestures:
+                truth[(g.name, g.start)] = g
+        per[label] = {}
+        for kind in kinds:
+            tally = Tally()
+            match(events[kind], list(truth.values()), tally)
+            match(events[kind], list(truth.values()), overall[kind])
+            per[label][kind] = tally.figures()
+    return {"performers": per, "overall": {kind: t.figures() for kind, t in overall.items()}}
+
+
+def _truth_hands(depth):
+    from host import Hand, HandState
+
+    ids = {"left": 1, "right": 2}
+    return [Hand(ids[side.value], HandState.TRACKING, pos, side) for side, pos in depth.truth.hands.items()]
+
+
+def _fmt(v) -> str:
+    return "-" if v is None else f"{v:.2f}"
+
+
+def rows_of(section: str, gestures: dict) -> list[list]:
+    rows = []
+    for g, f in gestures.items():
+        lat = f["latency_s"]
+        rows.append([section, g, _fmt(f["precision"]), _fmt(f["recall"]), _fmt(f["f1"]),
+                     f"{f['tp']}/{f['fp']}/{f['fn']}",
+                     "-" if lat is None else f"{lat['p50']:+.2f} / {lat['p90']:+.2f}"])
+    return rows
+
+
+def main() -> None:
+    def extra(p):
+        p.add_argument("--backend", default="openiss")
+        p.add_argument("--quick", action="store_true", help="recogniser only: no depth tracking (faster)")
+        p.add_argument("--clips", type=int, default=None, help="at most this many real depth clips")
+
+    args = parse_args(__doc__.splitlines()[0], extra)
+    figures = {"backend": args.backend, "real_trajectories": real_trajectories(args.backend)}
+    if not args.quick:
+        figures["real_clips"] = real_clips(args.backend, args.clips)
+    figures["synthetic"] = synthetic(args.backend, PERFORMERS, with_tracker=not args.quick)
+    rows = rows_of("real csv", figures["real_trajectories"]["gestures"])
+    rows.append(["real csv", "false fires", _fmt(figures["real_trajectories"]["false_fire_rate"]),
+                 "", "", "", ""])
+    if "real_clips" in figures:
+        rows += rows_of("real clips", figures["real_clips"]["gestures"])
+        rows.append(["real clips", "false fires", _fmt(figures["real_clips"]["false_fire_rate"]), "", "", "", ""])
+    for kind, gestures in figures["synthetic"]["overall"].items():
+        rows += rows_of(f"synth. {kind}", gestures)
+    report(f"gestures, backend {args.backend} (latency: COMPLETE - end of motion, s)", figures, rows,
+           ["data", "gesture", "precision", "recall", "F1", "tp/fp/fn", "latency p50 / p90"], args.json)
+
+
+if __name__ == "__main__":
+    main()

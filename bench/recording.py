@@ -1,0 +1,61 @@
+"""Recording cost: milliseconds per frame to write and to read back, bytes per frame and the
+lossless compression ratio, for Kinect-like synthetic depth (640x480, noisy) and a real UTD-MHAD
+clip (320x240, background removed). Recording runs on the sensor thread, so write time adds to
+every frame's latency: it should stay a small part of a 33 ms (30 Hz) frame.
+"""
+from __future__ import annotations
+
+import tempfile
+import time
+from pathlib import Path
+
+from backends.truth import TruthBackend
+from bench.common import parse_args, percentiles, report
+from host.recording import Recording, RecordingWriter
+from sources.clip import ClipOptions, ClipSource
+from sources.synthetic import SyntheticOptions, SyntheticSource
+
+CLIP = Path(__file__).resolve().parents[2] / "shared" / "data" / "utd-mhad-dev" / "clips" / "a1_s1_t1_swipe_left.npz"
+
+
+def measure(name: str, source, frames: int) -> dict:
+    tracked = []
+    with TruthBackend(source) as backend:
+        while len(tracked) < frames and (frame := backend.update()) is not None:
+            tracked.append(frame)
+    path = Path(tempfile.mkdtemp()) / f"{name}.mcap"
+    write_ms = []
+    with RecordingWriter(path) as writer:
+        for frame in tracked:
+            t0 = time.perf_counter()
+            writer.write_frame(frame)
+            write_ms.append((time.perf_counter() - t0) * 1000)
+    t0 = time.perf_counter()
+    with Recording(path) as rec:
+        read = sum(1 for _ in rec.frames())
+    read_ms = (time.perf_counter() - t0) * 1000 / max(read, 1)
+    raw = sum(f.depth.data.nbytes for f in tracked)
+    size = path.stat().st_size
+    return {"frames": len(tracked), "size": f"{tracked[0].depth.width}x{tracked[0].depth.height}",
+            "write_ms": percentiles(write_ms), "read_ms_per_frame": read_ms,
+            "kib_per_frame": size / len(tracked) / 1024, "compression_ratio": raw / size}
+
+
+def main() -> None:
+    def extra(p):
+        p.add_argument("--frames", type=int, default=150, help="frames per case")
+    args = parse_args(__doc__, extra)
+    cases = {"synthetic 640x480": SyntheticSource(SyntheticOptions(seed=1))}
+    if CLIP.exists():
+        cases["UTD-MHAD clip 320x240"] = ClipSource(ClipOptions(path=str(CLIP), loop=True))
+    figures, rows = {}, []
+    for name, source in cases.items():
+        m = figures[name] = measure(name, source, args.frames)
+        rows.append([name, m["write_ms"]["p50"], m["write_ms"]["p99"], m["read_ms_per_frame"],
+                     m["kib_per_frame"], m["compression_ratio"]])
+    report("issv recording bench", figures, rows,
+           ["depth", "write p50 (ms/frame)", "write p99", "read (ms/frame)", "KiB/frame", "compression x"], args.json)
+
+
+if __name__ == "__main__":
+    main()

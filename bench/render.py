@@ -1,0 +1,69 @@
+"""Rendering while tracking runs: rFPS, sFPS, effective FPS and frame-time percentiles of the
+stage profile (profiles/stage.toml: synthetic performer, openiss, five render effects, HUD) at
+1280x720 and 1920x1080, headless on EGL (llvmpipe without a GPU).
+
+Each size runs twice: capped at the profile's output rate (60 Hz, what a show does) and with the
+cap lifted to 240 Hz (what the renderer can do). Frame time is the renderer's own time per frame.
+Targets (issue 5): >= 60 rFPS at 1280x720; effective FPS >= 45 with a 30 Hz source.
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from bench.common import parse_args, percentiles, report
+from host import profile as profiles
+from host.assemble import make_backend, make_effects
+from host.contracts import Stage
+from host.loop import Limits, Show
+from host.render import make_renderer
+
+PROFILE = Path(__file__).resolve().parents[1] / "profiles" / "stage.toml"
+SIZES = ((1280, 720), (1920, 1080))
+
+
+def run(size: tuple[int, int], fps: float, seconds: float) -> dict:
+    prof = profiles.load(PROFILE)
+    out = prof.model.output
+    out.size, out.mode, out.fps = size, "headless", fps
+    backend = make_backend(prof, realtime=True)
+    slots = [s for s in make_effects(prof) if s.effect.renders]  # no console: stdout stays clean
+    stage = Stage(size=size, fps=fps, backend=backend.name)
+    renderer = make_renderer(out, stage)
+    show = Show(backend, slots, stage, renderer=renderer, limits=Limits(seconds=seconds))
+    m = show.run()
+    if show.sensor_error is not None:
+        raise SystemExit(f"bench.render: backend failed: {show.sensor_error}")
+    frame = percentiles(list(renderer.frame_ms)[30:])  # without the first frames (shader compiles)
+    return {"size": f"{size[0]}x{size[1]}", "cap_hz": fps, "rfps": round(m.rfps, 2), "sfps": round(m.sfps, 2),
+            "effective_fps": round(m.effective_fps, 2), "source_fps": m.source_fps,
+            "frame_ms": {k: round(v, 2) for k, v in frame.items()},
+            "latency_ms": {k: round(v, 2) for k, v in m.latency().items()}, "gestures": m.gestures}
+
+
+def main() -> None:
+    args = parse_args(__doc__.splitlines()[0], lambda p: p.add_argument(
+        "--seconds", type=float, default=8.0, help="seconds of source time per run (default 8)"))
+    runs = [run(size, cap, args.seconds) for size in SIZES for cap in (60.0, 240.0)]
+    rows = [[r["size"], f"{r['cap_hz']:.0f}", r["rfps"], r["sfps"], r["effective_fps"], r["frame_ms"]["p50"],
+             r["frame_ms"]["p90"], r["frame_ms"]["p99"], r["latency_ms"]["p50"]] for r in runs]
+    hd = next(r for r in runs if r["size"] == "1280x720" and r["cap_hz"] == 240.0)
+    figures = {"profile": str(PROFILE.name), "renderer": renderer_name(), "cores": os.cpu_count(), "runs": runs,
+               "targets": {"rfps_1280x720_min": 60, "effective_fps_min": 45},
+               "meets": {"rfps_1280x720": hd["rfps"] >= 60, "effective_fps": hd["effective_fps"] >= 45}}
+    report(f"render bench: {PROFILE.name} while tracking runs ({figures['renderer']}, {os.cpu_count()} cores)",
+           figures, rows, ["size", "cap Hz", "rFPS", "sFPS", "effective", "frame p50 ms", "p90", "p99",
+                           "latency p50 ms"], args.json)
+
+
+def renderer_name() -> str:
+    from host.render.context import headless_context
+    ctx = headless_context()
+    try:
+        return ctx.info["GL_RENDERER"]
+    finally:
+        ctx.release()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,39 @@
+"""Short synthetic performances for the tracker and backend tests (real rendered depth, with truth)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from host import DepthFrame
+from sources.synthetic import SyntheticOptions, SyntheticSource
+
+WAVE_THEN_REST = [{"action": "idle", "duration": 0.5}, {"action": "wave"}, {"action": "idle", "duration": 1.5}]
+SWIPE = [{"action": "idle", "duration": 0.4}, {"action": "swipe_left"}, {"action": "idle", "duration": 0.5}]
+
+
+def frames(steps: list[dict], **options) -> list[DepthFrame]:
+    """Every frame of a seeded synthetic performance (640x480 with floor and back wall unless told)."""
+    source = SyntheticSource(SyntheticOptions(choreography=steps, seed=3, **options))
+    source.open()
+    out = []
+    while (frame := source.read()) is not None:
+        out.append(frame)
+    source.close()
+    return out
+
+
+def write_clip(path: Path, depth_frames: list[DepthFrame]) -> Path:
+    """The frames as a depth clip (.npz, DESIGN.md) with hand truth, as a recording would be."""
+    first = depth_frames[0]
+    hands = np.full((len(depth_frames), 2, 3), np.nan)
+    for i, f in enumerate(depth_frames):
+        for k, side in enumerate(("left", "right")):
+            for s, p in (f.truth.hands.items() if f.truth else ()):
+                if s.value == side:
+                    hands[i, k] = p
+    np.savez(path, depth=np.stack([f.data for f in depth_frames]),
+             timestamps=np.array([f.timestamp for f in depth_frames]),
+             intrinsics=np.array(first.intrinsics.as_list()), mirrored=first.mirrored,
+             hands=hands, hand_names=np.array(["left", "right"]))
+    return path

@@ -1,0 +1,192 @@
+"""The named engine backends on real rendered depth, and `issv track` as a real process."""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pydantic
+import pytest
+
+from backends.engine.backend import (OpenISSBackend, OpenISSNiteBackend, OpenISSNuitrackBackend,
+                                     SimpleOpenNIBackend)
+from backends.engine.recognizer import NITE_DICTIONARY, NUITRACK_DICTIONARY
+from host import GestureState, GestureType, HandState, Intrinsics, Source
+from host.plugins import default_registry
+from tests.backends.engine.performer import WAVE_THEN_REST, frames, write_clip
+from tests.conftest import REAL_CLIPS
+
+NITE_TYPES = set(NITE_DICTIONARY.values())
+NUITRACK_TYPES = set(NUITRACK_DICTIONARY.values())
+
+
+class ListSource(Source):
+    """A source over frames already rendered (the synthetic performer's), so each test renders once."""
+
+    name = "frames"
+
+    def __init__(self, depth_frames) -> None:
+        super().__init__()
+        self.frames = depth_frames
+        self.intrinsics = depth_frames[0].intrinsics
+
+    def open(self) -> None:
+        self._i = 0
+
+    def read(self):
+        if self._i >= len(self.frames):
+            return None
+        self._i += 1
+        return self.frames[self._i - 1]
+
+
+@pytest.fixture(scope="module")
+def wave():
+    return frames(WAVE_THEN_REST)
+
+
+def play(backend_cls, depth_frames, options=None, hands=True, gestures=True):
+    backend = backend_cls(ListSource(depth_frames), options)
+    backend.init()
+    if hands:
+        backend.start_hand_tracking()
+    if gestures:
+        backend.start_gesture_detection()
+    out = []
+    while (frame := backend.update()) is not None:
+        out.append(frame)
+    backend.stop()
+    return out
+
+
+def completed(frames_):
+    return [g for f in frames_ for g in f.gestures if g.state is GestureState.COMPLETE]
+
+
+def test_all_four_are_registered_and_available():
+    registry = default_registry()
+    for cls in (OpenISSBackend, SimpleOpenNIBackend, OpenISSNiteBackend, OpenISSNuitrackBackend):
+        entry = registry.get("backends", cls.name)
+        assert entry is not None and entry.cls is cls and entry.availability() is None
+
+
+def test_openiss_reports_hands_and_the_wave_with_its_hand(wave):
+    out = play(OpenISSBackend, wave)
+    assert [f.seq for f in out] == list(range(1, len(wave) + 1))
+    assert all(f.backend == "openiss" and f.depth is wave[i] for i, f in enumerate(out))
+    assert all(f.capture_time == f.depth.capture_time for f in out)
+    waves = [g for g in completed(out) if g.name == "wave"]
+    assert waves, "the synthetic wave was not recognised"
+    hand_ids = {h.id for f in out for h in f.hands}
+    assert waves[0].hand_id in hand_ids and waves[0].side.value == "right"
+    assert 0 < waves[0].confidence <= 1
+
+
+def test_stopped_tracking_and_detection_report_nothing(wave):
+    out = play(OpenISSBackend, wave, hands=False, gestures=False)
+    assert len(out) == len(wave)
+    assert not any(f.hands or f.gestures for f in out)
+
+
+def test_nite_mode_hands_only_after_a_focus_gesture_from_that_hand(wave):
+    out = play(OpenISSNiteBackend, wave)
+    focus = next(i for i, f in enumerate(out) for g in f.gestures
+                 if g.state is GestureState.COMPLETE and g.name in ("wave", "click"))
+    assert not any(f.hands for f in out[:focus]), "hands before the focus gesture"
+    first = out[focus].hands
+    assert first and first[0].state is HandState.NEW
+    gesture = next(g for g in out[focus].gestures if g.state is GestureState.COMPLETE)
+    assert first[0].id == gesture.hand_id
+    assert {g.type for f in out for g in f.gestures} <= NITE_TYPES
+    openiss = play(OpenISSBackend, wave)
+    assert any(f.hands for f in openiss[:focus]), "the open engine reports hands before any gesture"
+
+
+def test_simpleopenni_presents_kinect_v1_geometry_whatever_the_source():
+    small = frames(WAVE_THEN_REST, width=320, height=240)
+    out = play(SimpleOpenNIBackend, small)
+    assert all((f.depth.width, f.depth.height) == (640, 480) for f in out)
+    assert out[0].depth.intrinsics == Intrinsics.from_fov(640, 480, 57, 43)
+    assert {g.type for f in out for g in f.gestures} <= NITE_TYPES
+    assert any(g.type is GestureType.WAVE for g in completed(out))
+
+
+def test_nuitrack_mode_names_and_sides(wave):
+    out = play(OpenISSNuitrackBackend, wave)
+    assert {g.type for f in out for g in f.gestures} <= NUITRACK_TYPES
+    assert any(g.type is GestureType.WAVING for g in completed(out))
+    first_gesture = next(i for i, f in enumerate(out) if f.gestures)
+    assert any(f.hands for f in out[:first_gesture]), "no focus gesture needed before hands"
+    assert all(h.side.value in ("left", "right") for f in out for h in f.hands)
+
+
+def test_recognizer_classmethod_uses_the_mode_and_the_gesture_overrides():
+    assert OpenISSNiteBackend.recognizer().dictionary == NITE_DICTIONARY
+    assert OpenISSNuitrackBackend.recognizer().dictionary == NUITRACK_DICTIONARY
+    options = OpenISSBackend.Options(gestures={"swipe_min_travel_mm": 300})
+    assert OpenISSBackend.recognizer(options).rules.swipe_min_travel_mm == 300
+
+
+def test_options_are_checked():
+    with pytest.raises(pydantic.ValidationError):
+        OpenISSBackend.Options(smoothness=3)
+    with pytest.raises(pydantic.ValidationError):
+        OpenISSBackend.Options(gestures={"swipe_travel": 300})
+    options = OpenISSBackend.Options(lost_timeout_s=1.0, smoothing={"beta": 0.0})
+    assert options.lost_timeout_s == 1.0 and options.smoothing.beta == 0.0
+
+
+# -- issv track -----------------------------------------------------------------------------------
+
+def issv(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "host", *args], capture_output=True, text=True, timeout=300)
+
+
+@pytest.fixture(scope="module")
+def clips(tmp_path_factory, wave):
+    folder = tmp_path_factory.mktemp("clips")
+    return write_clip(folder / "wave.npz", wave), write_clip(folder / "start.npz", wave[:20])
+
+
+def test_track_prints_a_hands_line_per_frame_and_the_gesture_events(clips, wave):
+    result = issv("track", str(clips[0]))
+    assert result.returncode == 0, result.stderr
+    lines = [json.loads(line) for line in result.stdout.splitlines()]
+    hands = [e for e in lines if e["type"] == "hands"]
+    assert len(hands) == len(wave)
+    assert all("clip" not in e for e in lines)
+    gestures = [e for e in lines if e["type"] == "gesture"]
+    assert any(e["name"] == "wave" and e["native"] == "WAVE" and e["state"] == "complete" for e in gestures)
+    for e in gestures:
+        assert {"t", "name", "native", "state", "hand", "side", "position", "confidence"} <= set(e)
+    tracked = [h for e in hands for h in e["hands"]]
+    assert tracked and all(len(h["position"]) == 3 and h["side"] in ("left", "right") for h in tracked)
+
+
+def test_track_several_clips_tags_every_line(clips):
+    result = issv("track", "--backend", "openiss-nuitrack", *map(str, clips))
+    assert result.returncode == 0, result.stderr
+    lines = [json.loads(line) for line in result.stdout.splitlines()]
+    by_clip = {str(c): [e for e in lines if e.get("clip") == str(c)] for c in clips}
+    assert all("clip" in e for e in lines)
+    assert len([e for e in by_clip[str(clips[1])] if e["type"] == "hands"]) == 20
+    assert all(e["native"] in {t.value for t in NUITRACK_TYPES} for e in lines if e["type"] == "gesture")
+
+
+def test_track_bad_input_is_one_clear_line(tmp_path, clips):
+    missing = issv("track", str(tmp_path / "nope.npz"))
+    assert missing.returncode == 1 and "nope.npz" in missing.stderr and "Traceback" not in missing.stderr
+    unknown = issv("track", "--backend", "kinect-magic", str(clips[0]))
+    assert unknown.returncode == 1 and "kinect-magic" in unknown.stderr and "openiss" in unknown.stderr
+
+
+def test_track_a_real_kinect_clip():
+    clip = REAL_CLIPS / "a3_s1_t1_wave.npz"
+    if not clip.exists():
+        pytest.skip(f"real clips not found at {REAL_CLIPS} (see ../shared/data/utd-mhad-dev/README.md)")
+    result = issv("track", str(clip))
+    assert result.returncode == 0, result.stderr
+    lines = [json.loads(line) for line in result.stdout.splitlines()]
+    assert sum(e["type"] == "hands" for e in lines) > 30
+    assert any(e["type"] == "hands" and e["hands"] for e in lines), "no hand found in a real wave"

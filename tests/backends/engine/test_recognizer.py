@@ -1,0 +1,130 @@
+"""The gesture recogniser on synthetic performances described physically (mm, s)."""
+from __future__ import annotations
+
+import pytest
+from pydantic import ValidationError
+
+from backends.engine.recognizer import NITE_DICTIONARY, NUITRACK_DICTIONARY, GestureRecognizer
+from backends.engine.rules import GestureRules
+from host import Gesture, GestureState, GestureType, Hand, HandState, Side
+from tests.backends.engine import choreography as c
+
+
+def perform(performance: c.Performance, rules: GestureRules | None = None, dictionary=None,
+            with_body: bool = True, noise_mm: float = 0.0) -> list[Gesture]:
+    recognizer = GestureRecognizer(rules or GestureRules(), dictionary)
+    events: list[Gesture] = []
+    for t, hands, body in performance.frames(with_body, noise_mm):
+        events += recognizer.update(t, hands, body, performance.mirrored)
+    return events
+
+
+def completed(events: list[Gesture]) -> list[str]:
+    return [e.name for e in events if e.state is GestureState.COMPLETE]
+
+
+@pytest.mark.parametrize("with_body", [True, False], ids=["skeleton", "hands-only"])
+@pytest.mark.parametrize("noise_mm", [0.0, 10.0])
+def test_a_50_cm_swipe_in_half_a_second_is_one_swipe(with_body, noise_mm):
+    events = perform(c.swipe(travel=500, duration=0.5), with_body=with_body, noise_mm=noise_mm)
+    assert completed(events) == ["swipe_left"]
+    done = next(e for e in events if e.state is GestureState.COMPLETE)
+    announced = [e for e in events if e.state is GestureState.IN_PROGRESS and e.name == "swipe_left"]
+    assert announced and announced[0].timestamp <= done.timestamp
+    assert done.type is GestureType.SWIPE_LEFT
+    assert (done.hand_id, done.side) == (c.IDS[Side.RIGHT], Side.RIGHT)
+    assert 0.5 <= done.confidence <= 1.0
+    assert done.position[0] < -100  # where the hand ended: at the performer's left (mirrored image)
+
+
+def test_swipe_direction_is_the_performers_in_both_camera_conventions():
+    assert completed(perform(c.swipe(to_right=True))) == ["swipe_right"]
+    unmirrored = c.swipe(to_right=True)
+    unmirrored.mirrored = False  # the same motion seen by an unmirrored camera: x flips, the swipe does not
+    assert completed(perform(unmirrored)) == ["swipe_right"]
+
+
+def test_a_short_or_slow_sideways_motion_is_not_a_swipe():
+    assert completed(perform(c.swipe(travel=200, duration=0.3))) == []
+    assert completed(perform(c.swipe(travel=500, duration=2.0))) == []
+
+
+def test_the_wind_up_before_a_swipe_is_not_a_swipe_the_other_way():
+    events = perform(c.windup_swipe())
+    assert completed(events) == ["swipe_left"]
+    assert not [e for e in events if e.name == "swipe_right"]
+
+
+@pytest.mark.parametrize("with_body", [True, False], ids=["skeleton", "hands-only"])
+def test_walking_two_metres_with_swinging_arms_is_nothing(with_body):
+    assert completed(perform(c.walk(distance=2000, duration=2.5), with_body=with_body)) == []
+
+
+def test_a_wave_is_one_wave_and_no_swipe():
+    events = perform(c.wave(swings=6, amplitude=240, half_period=0.2))
+    assert completed(events) == ["wave"]
+    assert [e.name for e in events if e.state is GestureState.IN_PROGRESS] == ["wave"]
+
+
+def test_a_wave_below_the_shoulders_or_with_two_swings_is_not_a_wave():
+    assert completed(perform(c.wave(height=-50))) == []  # at the belly
+    assert completed(perform(c.wave(swings=2))) == []  # one reversal
+
+
+@pytest.mark.parametrize("with_body", [True, False], ids=["skeleton", "hands-only"])
+def test_a_push_of_both_hands_is_a_click(with_body):
+    names = completed(perform(c.push(), with_body=with_body))
+    assert names and set(names) == {"click"}
+
+
+def test_a_hand_held_above_the_head_is_a_hand_raise_once():
+    assert completed(perform(c.hand_raise(above_head=150, hold=1.0))) == ["hand_raise"]
+    assert completed(perform(c.hand_raise(above_head=150, hold=0.0, move=0.4))) == []  # up and down: not held
+    assert completed(perform(c.hand_raise(above_head=-200, hold=1.0))) == []  # at the shoulder
+
+
+def test_refractory_period_per_hand_comes_from_the_rules():
+    twice = c.push(pushes=2, pause=0.0)  # two pushes 0.7 s apart
+    per_hand = lambda events: sum(1 for e in events if e.state is GestureState.COMPLETE and e.hand_id == 2)
+    assert per_hand(perform(twice, GestureRules(refractory_s=0.0))) == 2
+    assert per_hand(perform(twice, GestureRules(refractory_s=1.5))) == 1
+
+
+def test_thresholds_are_overridable_and_checked():
+    assert completed(perform(c.swipe(travel=500), GestureRules(swipe_min_travel_mm=600))) == []
+    with pytest.raises(ValidationError):
+        GestureRules(swipe_min_travel=300)  # misspelt: refused, not ignored
+    with pytest.raises(ValidationError):
+        GestureRules(swipe_min_travel_mm=-1)
+
+
+def test_the_dictionary_decides_what_is_reported_and_under_which_native_name():
+    assert completed(perform(c.swipe(), dictionary=NITE_DICTIONARY)) == []  # NiTE has no swipes
+    events = perform(c.wave(), dictionary=NUITRACK_DICTIONARY)
+    assert [e.type for e in events if e.state is GestureState.COMPLETE] == [GestureType.WAVING]
+    clicks = [e for e in perform(c.push(), dictionary=NUITRACK_DICTIONARY) if e.state is GestureState.COMPLETE]
+    assert clicks and {e.type for e in clicks} == {GestureType.PUSH} and {e.name for e in clicks} == {"click"}
+    with pytest.raises(ValueError, match="unknown gesture"):
+        GestureRecognizer(GestureRules(), {"jump": GestureType.WAVE})
+
+
+def test_a_lost_hand_is_forgotten():
+    """Half a wave, the hand LOST, the other half: two halves do not make a wave."""
+    performance = c.wave(swings=5, half_period=0.2)  # swinging from 0.9 s to 1.9 s: four reversals
+    recognizer = GestureRecognizer(GestureRules())
+    events = []
+    for t, hands, body in performance.frames():
+        if 1.3 <= t < 1.35:  # lost after two swings, found again for the last three
+            hands = [Hand(h.id, HandState.LOST, h.position, h.side) if h.side is Side.RIGHT else h for h in hands]
+        events += recognizer.update(t, hands, body, True)
+    assert completed(events) == []
+    assert completed(perform(performance)) == ["wave"]  # the same motion, tracked throughout
+
+
+
+def test_a_stream_that_starts_again_is_a_new_performance():
+    """A looping clip: time jumps back to 0 and the same swipe is reported again, once per pass."""
+    recognizer = GestureRecognizer(GestureRules())
+    frames = list(c.swipe().frames())
+    events = [e for _ in range(2) for t, hands, body in frames for e in recognizer.update(t, hands, body, True)]
+    assert completed(events) == ["swipe_left", "swipe_left"]

@@ -1,0 +1,163 @@
+"""The depth hand tracker on rendered synthetic depth (floor, back wall, sensor noise) with truth."""
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from backends.engine.geometry import KINECT_V1, to_geometry
+from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
+from backends.engine.tracker import HandTracker, TrackerOptions
+from host import DepthFrame, HandState, Intrinsics, Side
+from tests.backends.engine.performer import SWIPE, WAVE_THEN_REST, frames
+
+
+@pytest.fixture(scope="module")
+def wave() -> list[DepthFrame]:
+    return frames(WAVE_THEN_REST)
+
+
+def run(depth_frames, options=None):
+    tracker = HandTracker(options)
+    return [tracker.process(f) for f in depth_frames]
+
+
+def waving(f: DepthFrame) -> bool:
+    return any(g.name == "wave" for g in f.truth.gestures)
+
+
+def test_user_and_body_found_from_the_first_frame_despite_floor_and_wall(wave):
+    result = HandTracker().process(wave[0])
+    truth = wave[0].truth.body
+    assert result.body, "no user found on the first frame"
+    assert np.linalg.norm(np.subtract(result.body["torso"], truth["torso"])) < 150
+    assert np.linalg.norm(np.subtract(result.body["head"], truth["head"])) < 150
+    mask = result.full_mask(wave[0])
+    assert mask.shape == wave[0].data.shape
+    # Neither the floor nor the back wall is part of the user: every user pixel is near the performer.
+    v, u = np.nonzero(mask)
+    z = wave[0].data[v, u].astype(float)
+    assert np.all(np.abs(z - truth["torso"][2]) < 900)
+    assert mask.sum() < 0.25 * mask.size
+
+
+def test_waving_hand_tracked_with_one_id_on_the_performers_right(wave):
+    results = run(wave)
+    ids, errors = set(), []
+    for f, r in zip(wave, results):
+        if not waving(f):
+            continue
+        truth = np.array(f.truth.hands[Side.RIGHT])
+        near = [h for h in r.hands if np.linalg.norm(np.subtract(h.position, truth)) < 250]
+        if near:
+            ids.add(near[0].id)
+            errors.append(np.linalg.norm(np.subtract(near[0].position, truth)))
+            assert near[0].side is Side.RIGHT
+    assert len(errors) > 0.8 * sum(waving(f) for f in wave), "the waving hand was missed in many frames"
+    assert len(ids) == 1, f"the waving hand changed id: {ids}"
+    assert np.median(errors) < 100
+
+
+def test_sides_are_the_performers_whatever_the_mirroring():
+    unmirrored = frames(WAVE_THEN_REST[:2], mirrored=False)
+    results = run(unmirrored)
+    sides = {h.side for r in results for h in r.hands}
+    xs = [h.position[0] for r in results for h in r.hands]
+    assert sides == {Side.RIGHT}
+    assert np.median(xs) < 0, "unmirrored, the performer's right hand is on the image's left (-x)"
+
+
+def test_states_new_then_tracking_then_lost_once_after_the_timeout(wave):
+    options = TrackerOptions(lost_timeout_s=0.3)
+    tracker = HandTracker(options)
+    history: dict[int, list[tuple[float, HandState]]] = {}
+    for f in wave:
+        for h in tracker.process(f).hands:
+            history.setdefault(h.id, []).append((f.timestamp, h.state))
+    wave_id = max(history, key=lambda i: len(history[i]))
+    states = [s for _, s in history[wave_id]]
+    assert states[0] is HandState.NEW and HandState.NEW not in states[1:]
+    assert HandState.TRACKING in states
+    assert states.count(HandState.LOST) == 1 and states[-1] is HandState.LOST
+    seen = [t for t, s in history[wave_id] if s is not HandState.LOST]
+    lost_at = history[wave_id][-1][0]
+    assert lost_at - seen[-1] >= 0.3
+
+
+def test_touching_fov_when_the_image_edge_cuts_the_hand():
+    swipe = frames(SWIPE)
+    # The frame where the right hand is farthest out to the image's right, cut just inside the hand.
+    best = max(swipe, key=lambda f: f.truth.hands[Side.RIGHT][0])
+    u, _, _ = best.world_to_depth(best.truth.hands[Side.RIGHT])
+    cut = int(u)
+    cropped = DepthFrame(np.ascontiguousarray(best.data[:, :cut]), best.intrinsics, 1, best.timestamp,
+                         mirrored=best.mirrored, truth=best.truth)
+    whole = HandTracker().process(best)
+    edge = HandTracker().process(cropped)
+    assert any(h.state is HandState.NEW for h in whole.hands)
+    tracker = HandTracker()
+    tracker.process(cropped)
+    again = tracker.process(replace(cropped, timestamp=best.timestamp + 1 / 30))
+    assert any(h.state is HandState.TOUCHING_FOV for h in again.hands), [h.state for h in again.hands]
+    assert edge.hands, "the cut hand must still be reported"
+
+
+@pytest.mark.parametrize("size", [(320, 240), (640, 480)])
+def test_any_resolution_gives_the_same_world_positions(size):
+    sub = frames(WAVE_THEN_REST[:2], width=size[0], height=size[1])
+    results = run(sub)
+    errors = []
+    for f, r in zip(sub, results):
+        if waving(f):
+            truth = np.array(f.truth.hands[Side.RIGHT])
+            d = [np.linalg.norm(np.subtract(h.position, truth)) for h in r.hands]
+            if d and min(d) < 250:
+                errors.append(min(d))
+    assert len(errors) > 0.8 * sum(waving(f) for f in sub)
+    assert np.median(errors) < 100
+
+
+def test_background_already_removed_is_the_easy_case():
+    sub = frames(WAVE_THEN_REST[:2], background="none")
+    results = run(sub)
+    assert all(r.body for r in results)
+    assert sum(bool(r.hands) for r, f in zip(results, sub) if waving(f)) > 0.8 * sum(waving(f) for f in sub)
+
+
+def test_empty_scene_has_no_user_and_no_hands():
+    empty = DepthFrame(np.full((240, 320), 4000, np.uint16), Intrinsics.from_fov(320, 240, 57, 43))
+    result = HandTracker().process(empty)
+    assert result.hands == () and result.body == {} and result.full_mask(empty) is None
+
+
+def test_one_euro_smooths_rest_and_follows_motion():
+    rng = np.random.default_rng(0)
+    t = np.arange(60) / 30
+    still = np.stack([rng.normal(0, 5, 60), np.zeros(60), np.full(60, 2000.0)], axis=1)  # 5 mm jitter
+    f = OneEuroFilter(SmoothingOptions())
+    smoothed = np.array([f(ti, p) for ti, p in zip(t, still)])
+    assert smoothed[10:, 0].std() < 0.75 * still[10:, 0].std()
+    moving = np.stack([1500 * t, np.zeros(60), np.full(60, 2000.0)], axis=1)  # 1.5 m/s
+    lag = {}
+    for beta in (0.0, 0.03):
+        f = OneEuroFilter(SmoothingOptions(beta=beta))
+        out = np.array([f(ti, p) for ti, p in zip(t, moving)])
+        lag[beta] = moving[-1, 0] - out[-1, 0]
+    assert lag[0.03] < 0.5 * lag[0.0]
+    off = OneEuroFilter(SmoothingOptions(enabled=False))
+    assert np.allclose([off(ti, p) for ti, p in zip(t, still)], still)
+
+
+def test_kinect_v1_geometry_keeps_world_positions(wave):
+    small = frames(WAVE_THEN_REST[:1], width=320, height=240)[0]
+    big = to_geometry(small, *KINECT_V1)
+    assert (big.width, big.height) == (640, 480) and big.intrinsics == KINECT_V1[1]
+    # Any reading of the resampled image lies on the ray of the same reading in the original.
+    v, u = 300, 330
+    z = big.data[v, u]
+    assert z > 0
+    x, y, _ = big.depth_to_world(u, v, z)
+    su, sv, _ = small.world_to_depth((x, y, z))
+    assert abs(small.data[int(round(sv)), int(round(su))] - int(z)) < 60
+    assert to_geometry(big, *KINECT_V1) is big

@@ -1,0 +1,31 @@
+"""Loss, duplicates, tail loss and restarts are counted from sequence numbers and sessions."""
+from __future__ import annotations
+
+import time
+
+from backends.network import wire
+from backends.network.subscriber import Accounting
+
+
+def hands(session: int, seq: int) -> wire.HandsMsg:
+    return wire.HandsMsg(wire.Header(wire.HANDS, session, seq, time.time()), seq, 0.0, "x", (), False)
+
+
+def status(session: int, kind: int, hands_last: int) -> wire.StatusMsg:
+    return wire.StatusMsg(wire.Header(kind, session, 0, time.time()), {"depth": 0, "hands": hands_last,
+                                                                        "gestures": 0}, "x", 0)
+
+
+def test_gaps_duplicates_tail_and_restart():
+    notes: list[str] = []
+    acc = Accounting("tcp://here:1", notes.append)
+    assert [acc.accept(hands(1, s)) for s in (5, 6, 8, 8, 7)] == [True, True, True, False, False]
+    s = acc.to_json()["streams"]["hands"]
+    assert (s["received"], s["lost"], s["duplicates"]) == (3, 1, 2)  # joined at 5: 1-4 are not loss
+    acc.accept(status(1, wire.HEARTBEAT, 10))  # 9 and 10 were sent: in flight or lost
+    assert acc.to_json()["streams"]["hands"]["lost"] == 3
+    acc.accept(hands(2, 1))  # a new session: the publisher restarted
+    assert acc.restarts == 1 and sum("restarted" in n for n in notes) == 1
+    assert not acc.accept(hands(1, 11))  # a late message of the old run is stale, not a restart back
+    assert acc.restarts == 1 and acc.stale == 1
+    assert acc.to_json()["streams"]["hands"]["lost"] == 3
