@@ -255,6 +255,11 @@ def main() -> None:
         rows.append(["real clips", "false fires", _fmt(figures["real_clips"]["false_fire_rate"]), "", "", "", ""])
     for kind, gestures in figures["synthetic"]["overall"].items():
         rows += rows_of(f"synth. {kind}", gestures)
+    for performer, kinds in figures["synthetic"]["performers"].items():
+        for kind, gestures in kinds.items():
+            tp, fp, fn = (sum(f[k] for f in gestures.values()) for k in ("tp", "fp", "fn"))
+            rows.append([f"synth. {kind}", performer, "", _fmt(tp / (tp + fn) if tp + fn else None), "",
+                         f"{tp}/{fp}/{fn}", ""])
     report(f"gestures, backend {args.backend} (latency: COMPLETE - end of motion, s)", figures, rows,
            ["data", "gesture", "precision", "recall", "F1", "tp/fp/fn", "latency p50 / p90"], args.json)
 

@@ -346,7 +346,8 @@ def table_main(args: argparse.Namespace) -> int:
         return "-" if t["p50"] is None else f"{t['p50']:.1f}/{t['p99']:.1f}"
 
     def loss(r: dict) -> str:
-        return "/".join("-" if r["loss_pct"][k] is None else f"{r['loss_pct'][k]:g}" for k in ("depth", "gestures", "hands"))
+        pct = r["loss_pct"]
+        return "/".join("-" if pct[k] is None else f"{pct[k]:g}" for k in ("depth", "gestures", "hands"))
 
     table = [[r["transport"], "100M" if r["link"] != "loopback" else "lo", loss(r), lat(r, "depth"),
               lat(r, "gestures"), lat(r, "hands"), f"{r['depth_frame_kB']:.0f}",

@@ -26,10 +26,15 @@ class HandOptions(BaseModel):
     above_shoulder_mm: float = Field(150, description="higher than this above the shoulder line and clear of the head")
     head_clearance_mm: float = Field(190, gt=0, description="cells this close to the head joint are head, not hand")
     palm_radius_mm: float = Field(120, gt=0, description="cells this close to the fingertips make up the hand")
+    palm_area_m2: float = Field(0.01, gt=0, description="frontal area of a hand and wrist: a hand seen whole has confidence 1")
     min_area_m2: float = Field(0.003, gt=0, description="smaller patches are noise, not a hand")
     hand_depth_mm: float = Field(25, ge=0, description="the hand joint lies this far behind the hand's surface")
     hip_margin_mm: float = Field(60, ge=0, description="a limb whose far end reaches this close to the hip line hangs down")
     joint_step_mm: float = Field(100, gt=0, description="neighbours closer than this in depth are one surface (arm joins body)")
+    hands_apart_mm: float = Field(150, gt=0, description="two hand positions closer than this are one hand")
+    second_hand_ratio: float = Field(0.8, gt=0, le=1, description=(
+        "a second end of one patch counts as a hand when it reaches this share of the first's "
+        "distance from the body (an elbow reaches about half)"))
     max_hands: int = Field(2, ge=1)
 
 
@@ -39,6 +44,7 @@ class Candidate:
     reach: float  # mm from the base of the neck: how extended the arm is
     at_border: bool  # the hand touches the edge of the image
     root: np.ndarray  # where the arm joins the body (mm): tells left from right when arms cross
+    confidence: float  # how much of a palm's area the sensor saw there, in [0, 1]
 
 
 class HandDetector:
@@ -69,28 +75,44 @@ class HandDetector:
             pts = np.stack([g.x[ys, xs], g.y[ys, xs], g.z[ys, xs]], axis=1).astype(np.float64)
             joint = attached[ys, xs]
             root = pts[joint].mean(axis=0) if joint.any() else neck
-            tip = int(np.argmax(np.linalg.norm(pts - root, axis=1)))
-            if pts[tip, 1] < body.hip_y + o.hip_margin_mm and body.surface_z - pts[tip, 2] < o.front_mm:
-                continue  # the limb goes on below the hips at the body's side: a hanging arm, its hand is not out
-            palm = np.linalg.norm(pts - pts[tip], axis=1) <= o.palm_radius_mm
-            position = pts[palm].mean(axis=0) + (0.0, 0.0, o.hand_depth_mm)
-            at_border = bool(np.any((ys[palm] == 0) | (ys[palm] == h - 1) | (xs[palm] == 0) | (xs[palm] == w - 1)))
-            reach = float(np.linalg.norm(pts[tip] - neck))
-            found.append(Candidate(position, reach, at_border, root if joint.any() else position))
+            from_root = np.linalg.norm(pts - root, axis=1)
+            tips = [int(np.argmax(from_root))]
+            # Both hands out together (a two-handed push) can make one patch: a second end as far
+            # from where the patch joins the body, and a hand's width away from the first, is a hand.
+            apart = np.linalg.norm(pts - pts[tips[0]], axis=1) > o.hands_apart_mm
+            if apart.any():
+                second = int(np.argmax(np.where(apart, from_root, -1.0)))
+                if from_root[second] >= o.second_hand_ratio * from_root[tips[0]]:
+                    tips.append(second)
+            for tip in tips:
+                if pts[tip, 1] < body.hip_y + o.hip_margin_mm and body.surface_z - pts[tip, 2] < o.front_mm:
+                    continue  # the limb goes on below the hips at the body's side: a hanging arm
+                palm = np.linalg.norm(pts - pts[tip], axis=1) <= o.palm_radius_mm
+                if len(tips) > 1:  # keep each hand's palm on its own side of the other hand
+                    other = pts[tips[1] if tip == tips[0] else tips[0]]
+                    palm &= np.linalg.norm(pts - other, axis=1) > np.linalg.norm(pts - pts[tip], axis=1)
+                position = pts[palm].mean(axis=0) + (0.0, 0.0, o.hand_depth_mm)
+                at_border = bool(np.any((ys[palm] == 0) | (ys[palm] == h - 1) | (xs[palm] == 0) | (xs[palm] == w - 1)))
+                reach = float(np.linalg.norm(pts[tip] - neck))
+                # Sides: by where the arm joins the body; for two hands of one patch, by each hand.
+                seen = g.pixel_area_mm2[ys[palm], xs[palm]].sum() / (o.palm_area_m2 * 1e6)
+                found.append(Candidate(position, reach, at_border,
+                                       root if joint.any() and len(tips) == 1 else position, min(1.0, seen)))
         found.sort(key=lambda c: -c.reach)
         kept: list[Candidate] = []
         for c in found:  # two patches of one arm (cut by the head's clearance) are one hand
-            if all(np.linalg.norm(c.position - k.position) > 2 * o.palm_radius_mm for k in kept):
+            if all(np.linalg.norm(c.position - k.position) > o.hands_apart_mm for k in kept):
                 kept.append(c)
         return kept[: o.max_hands]
 
     def _attached(self, cand: np.ndarray, rest: np.ndarray, z: np.ndarray) -> np.ndarray:
         """Candidate cells joined to the rest of the body without a depth jump: where each arm starts."""
         out = np.zeros_like(cand)
-        step = self.options.joint_step_mm
-        for axis, shift in ((0, 1), (0, -1), (1, 1), (1, -1)):
-            other = np.roll(rest, shift, axis=axis)
-            near = np.abs(z - np.roll(z, shift, axis=axis)) < step
-            out |= other & near
+        near_y = np.abs(z[1:, :] - z[:-1, :]) < self.options.joint_step_mm
+        near_x = np.abs(z[:, 1:] - z[:, :-1]) < self.options.joint_step_mm
+        out[1:, :] |= rest[:-1, :] & near_y
+        out[:-1, :] |= rest[1:, :] & near_y
+        out[:, 1:] |= rest[:, :-1] & near_x
+        out[:, :-1] |= rest[:, 1:] & near_x
         return out & cand
 

@@ -5,18 +5,23 @@ recorded trajectory), once per frame. Motion is judged relative to the body (the
 when given, else estimated from the hands, see body_reference.py), cut into strokes (strokes.py) and
 matched against the rules (rules.py):
 
-- SWIPE_LEFT/RIGHT/UP/DOWN: one fast stroke, dominant along its axis, with the hand raised from
-  rest. It completes `swipe_confirm_s` after it ends unless a comparable stroke the other way
-  follows: then it was a wind-up (the larger stroke wins) or part of a wave (neither is a swipe).
+- SWIPE_LEFT/RIGHT/UP/DOWN: one fast stroke, dominant along its axis, with the hand up from
+  rest and the body steady. It completes `swipe_confirm_s` after it ends unless a comparable
+  stroke the other way follows: then it was a wind-up (the larger stroke wins) or part of a
+  back-and-forth (neither is a swipe); the third of alternating strokes is a wave's, never a
+  swipe. If the hand leaves the view meanwhile, the swipe completes.
 - WAVE: several direction reversals of horizontal strokes, each large and quick enough, with
   the hand near or above the shoulders.
-- CLICK (PUSH): a fast stroke towards the camera, completed when the hand stops or comes back.
+- CLICK (PUSH): a fast stroke towards the camera with the hand up, after which the hand halts
+  (stops or comes back).
 - HAND_RAISE: the hand held nearly still above the head.
+Swipes and waves are one hand's: another hand making the mirror motion at the same time (a
+clap) cancels them.
 
 Each gesture is reported IN_PROGRESS (at most once per attempt) when it is recognisably under
-way (a swipe: once its stroke has ended and waits for confirmation; a wave: one reversal
-before it completes; a click: while the hand moves forward fast enough; a raise: half way through the hold)
-and COMPLETE once; after a COMPLETE the hand has a refractory period.
+way (a swipe: once its stroke has ended and waits for confirmation; a wave: one reversal before
+it completes; a click: while the hand moves forward fast enough; a raise: half way through the
+hold) and COMPLETE once; after a COMPLETE the hand has a refractory period.
 """
 from __future__ import annotations
 
@@ -41,7 +46,6 @@ NUITRACK_DICTIONARY: dict[str, GestureType] = {
     "swipe_up": GestureType.SWIPE_UP, "swipe_down": GestureType.SWIPE_DOWN}
 
 _GONE = (HandState.LOST, HandState.ABSENT)
-_CHAIN_GAP_S = 0.3  # strokes further apart than this do not belong to one oscillation
 _HISTORY_S = 3.0  # how much of each hand's past is kept (longer than any gesture)
 
 
@@ -61,7 +65,6 @@ class _HandTrack:
 
     rules: GestureRules
     hand: Hand  # as last seen
-    born: float = 0.0  # when the hand was first seen
     last_seen: float = 0.0
     samples: deque = field(default_factory=deque)
     refractory_until: float = float("-inf")
@@ -86,7 +89,9 @@ class _HandTrack:
             if t - q.t >= window:
                 break
         v = (p - ref.p) / (t - ref.t) if ref is not None and t > ref.t else np.zeros(3)
-        s = Sample(t, p, v, shoulder, head, world, body_vy)
+        last = self.samples[-1] if self.samples else None
+        since = last.seen_since if last is not None and t - last.t <= self.rules.track_gap_s else t
+        s = Sample(t, p, v, shoulder, head, world, body_vy, since)
         self.samples.append(s)
         while self.samples and t - self.samples[0].t > _HISTORY_S:
             self.samples.popleft()
@@ -133,7 +138,7 @@ class GestureRecognizer:
         for h in live:
             track = self._tracks.get(h.id)
             if track is None:
-                track = self._tracks[h.id] = _HandTrack(self.rules, h, born=t)
+                track = self._tracks[h.id] = _HandTrack(self.rules, h)
             track.hand, track.last_seen = h, t
             s = track.sample(t, np.asarray(h.position, float) - frame.torso,
                              frame.shoulder_y - frame.torso[1], frame.head_y - frame.torso[1], h.position, frame.vy)
@@ -201,6 +206,20 @@ class _Hand:
             self.emit(self.swipe_name(stroke), GestureState.COMPLETE, self.swipe_confidence(stroke), stroke.end)
         self.tr.pending.clear()
 
+    def core(self, stroke: Stroke) -> Stroke:
+        r = self.r
+        return stroke.core(r.stroke_core_speed_fraction, r.stroke_core_speed_mm_s, r.track_gap_s)
+
+    def seen_throughout(self, stroke: Stroke) -> bool:
+        """Was the hand seen without a gap from a while before the stroke to just after it? A hand
+        found mid-rise may be lifting from a rest where a depth tracker could not tell it from the
+        body; one lost during or at the end of a drop may be going back there."""
+        since = stroke.start.seen_since
+        if stroke.start.t - since < self.r.vertical_swipe_seen_before_s or stroke.end.seen_since != since:
+            return False
+        after = next((q for q in self.tr.samples if q.t > stroke.end.t), None)
+        return after is None or after.seen_since == since
+
     # --- swipes and waves ---------------------------------------------------------------------
     def swipe_name(self, stroke: Stroke) -> str:
         if stroke.axis == Y:
@@ -213,13 +232,11 @@ class _Hand:
         """Fast and dominant along its axis, with the hand up from rest and the body steady
         (travel checked apart); judged on the stroke's core."""
         r = self.r
-        core = stroke.core(r.stroke_core_speed_fraction, r.stroke_core_speed_mm_s)
+        core = self.core(stroke)
         if stroke.axis == Y:
-            # judged whole: a vertical stroke that starts or ends at rest is the arm lifting or dropping;
-            # and one that starts where its hand was first seen may have been lifting from a rest the
-            # tracker could not tell from the body
+            # judged whole: a vertical stroke that starts or ends at rest is the arm lifting or dropping
             lowest = stroke.lowest
-            if stroke.start.t - self.tr.born < r.vertical_swipe_seen_before_s:
+            if not self.seen_throughout(stroke):
                 return False
         else:
             lowest = core.lowest
@@ -228,7 +245,7 @@ class _Hand:
                 and core.body_speed <= r.steady_body_max_vertical_speed_mm_s)
 
     def is_swipe(self, stroke: Stroke) -> bool:
-        core = stroke.core(self.r.stroke_core_speed_fraction, self.r.stroke_core_speed_mm_s)
+        core = self.core(stroke)
         return (core.travel >= self.r.swipe_min_travel_mm and self.swipe_like(stroke)
                 and not self.mirrored_by_other_hand(core))
 
@@ -250,7 +267,7 @@ class _Hand:
 
     def swipe_confidence(self, stroke: Stroke) -> float:
         r = self.r
-        stroke = stroke.core(r.stroke_core_speed_fraction, r.stroke_core_speed_mm_s)
+        stroke = self.core(stroke)
         return _confidence(_margin(stroke.travel, r.swipe_min_travel_mm),
                            _margin(stroke.peak_speed, r.swipe_min_peak_speed_mm_s),
                            _margin(stroke.dominance, r.swipe_dominance))
@@ -258,10 +275,11 @@ class _Hand:
     def stroke_ended(self, stroke: Stroke, reversed_: bool) -> None:
         chain = self.tr.chains[stroke.axis]
         if chain and not (chain[-1].direction == -stroke.direction
-                          and stroke.start.t - chain[-1].end.t <= _CHAIN_GAP_S):
+                          and stroke.start.t - chain[-1].end.t <= self.r.oscillation_max_gap_s):
             chain.clear()
-        if (stroke.travel >= self.r.wave_min_amplitude_mm and stroke.dominance >= 1.0  # mostly along the axis
-                and stroke.lowest >= self.r.active_min_height_mm):
+        if (stroke.travel >= self.r.wave_min_amplitude_mm and stroke.dominance >= self.r.oscillation_min_dominance
+                and stroke.lowest >= self.r.active_min_height_mm
+                and stroke.end.seen_since == stroke.start.seen_since):  # not lost on the way
             chain.append(stroke)
         else:
             chain.clear()
@@ -308,7 +326,9 @@ class _Hand:
         if first.start.t <= self.tr.wave_done_at:
             return
         amplitude = float(np.median([s.travel for s in chain[-run:]]))
-        confidence = _confidence(_margin(amplitude, self.r.wave_min_amplitude_mm),
+        if amplitude < self.r.wave_min_typical_amplitude_mm:
+            return
+        confidence = _confidence(_margin(amplitude, self.r.wave_min_typical_amplitude_mm),
                                  min(1.0, reversals / (2 * self.r.wave_min_reversals)))
         if reversals >= self.r.wave_min_reversals:
             if self.emit("wave", GestureState.COMPLETE, confidence, chain[-1].end):
@@ -319,7 +339,7 @@ class _Hand:
     # --- click --------------------------------------------------------------------------------
     def click_like(self, stroke: Stroke) -> bool:
         r = self.r
-        core = stroke.core(r.stroke_core_speed_fraction, r.stroke_core_speed_mm_s)
+        core = self.core(stroke)
         return (stroke.direction < 0 and core.travel >= r.click_min_travel_mm
                 and core.peak_speed >= r.click_min_peak_speed_mm_s and core.dominance >= r.click_dominance
                 and r.click_min_duration_s <= stroke.duration and core.duration <= r.click_max_duration_s
@@ -328,7 +348,7 @@ class _Hand:
 
     def click_confidence(self, stroke: Stroke) -> float:
         r = self.r
-        stroke = stroke.core(r.stroke_core_speed_fraction, r.stroke_core_speed_mm_s)
+        stroke = self.core(stroke)
         return _confidence(_margin(stroke.travel, r.click_min_travel_mm),
                            _margin(stroke.peak_speed, r.click_min_peak_speed_mm_s),
                            _margin(stroke.dominance, r.click_dominance))

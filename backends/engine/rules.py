@@ -23,6 +23,9 @@ class GestureRules(BaseModel):
         "above the jitter of skeleton and depth hand trackers (10-20 mm), below a wave's swing")
     stroke_stop_s: float = Field(
         0.12, gt=0, description="a stroke ends when its extreme has not advanced for this long (the hand stopped)")
+    track_gap_s: float = Field(
+        0.1, gt=0, description="a hand not reported for longer than this (three frames at 30 Hz) left a gap: "
+        "where it went meanwhile is unknown")
     speed_window_s: float = Field(
         0.06, gt=0, description="speeds are measured over this interval (two frames at 30 Hz)")
     stroke_core_speed_fraction: float = Field(
@@ -47,9 +50,10 @@ class GestureRules(BaseModel):
         1.5, ge=1, description="travel along the swipe direction over the largest travel along the other axes: "
         "diagonal wind-ups and returns stay below it")
     vertical_swipe_seen_before_s: float = Field(
-        0.1, ge=0, description="a swipe up or down must start at least this long after its hand was first "
-        "seen: a hand found mid-rise may be lifting from a rest where a depth tracker could not tell it "
-        "from the body")
+        0.1, ge=0, description="a swipe up or down must start after its hand has been seen without a gap "
+        "for this long, and the hand must still be seen right after it: a hand found mid-rise may be "
+        "lifting from a rest where a depth tracker could not tell it from the body, one lost at the end "
+        "of a drop may be going back there")
     swipe_confirm_s: float = Field(
         0.25, ge=0, description="after a stroke ends, how long to watch whether a comparable stroke the other "
         "way follows (then the first was a wind-up, or both belong to a wave); this is the swipe's latency")
@@ -58,10 +62,18 @@ class GestureRules(BaseModel):
         "travel, fast and dominant like a swipe, makes the first a wind-up (or part of a wave); another hand "
         "moving the other way by this share at the same time makes it two-handed (a clap), not a swipe or wave")
 
-    # --- wave ---------------------------------------------------------------------------------
+    # --- wave (and oscillations in general) ------------------------------------------------------
+    oscillation_max_gap_s: float = Field(
+        0.3, ge=0, description="alternating strokes belong to one oscillation (a wave, a back-and-forth) "
+        "when the next starts within this long of the previous one's end")
+    oscillation_min_dominance: float = Field(
+        1.0, gt=0, description="an oscillation's strokes run mostly along their axis (travel over the "
+        "largest travel across it)")
     wave_min_amplitude_mm: float = Field(
-        150.0, gt=0, description="horizontal swing of each side-to-side stroke of a wave (a forearm waving "
-        "about the elbow swings the hand 20-40 cm; hands clapping or rubbing move less)")
+        100.0, gt=0, description="horizontal swing of every side-to-side stroke of a wave")
+    wave_min_typical_amplitude_mm: float = Field(
+        150.0, gt=0, description="median swing of the wave's strokes (a forearm waving about the elbow "
+        "swings the hand 20-40 cm; hands clapping or rubbing move less)")
     wave_max_stroke_s: float = Field(0.8, gt=0, description="a slower side-to-side stroke is not waving")
     wave_min_reversals: int = Field(3, ge=1, description="direction reversals needed: 3 = right-left-right-left")
     wave_max_below_shoulder_mm: float = Field(

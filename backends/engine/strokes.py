@@ -26,6 +26,7 @@ class Sample:
     head: float
     world: tuple[float, float, float]
     body_vy: float = 0.0
+    seen_since: float = 0.0  # since when the hand has been seen without a gap
 
 
 @dataclass(frozen=True)
@@ -68,15 +69,19 @@ class Stroke:
         """Highest speed along the stroke's direction, mm/s."""
         return max(float(self.direction * s.v[self.axis]) for s in self.samples)
 
-    def core(self, fraction: float, speed_mm_s: float) -> "Stroke":
+    def core(self, fraction: float, speed_mm_s: float, gap_s: float = 0.06) -> "Stroke":
         """The part of the stroke moving faster than `fraction` of its peak speed or `speed_mm_s`,
         whichever is lower: the gesture proper, without the slow start of an arc or the settling at
-        its end (the absolute bound keeps a stroke whole when a frame or two catch a very fast flick)."""
+        its end (the absolute bound keeps a stroke whole when a frame or two catch a very fast flick).
+        Samples more than `gap_s` apart mean frames where the hand was not found."""
         threshold = min(fraction * self.peak_speed, speed_mm_s)
         fast = [i for i, s in enumerate(self.samples) if self.direction * s.v[self.axis] >= threshold]
         if not fast:
             return self
-        return Stroke(self.axis, self.direction, self.samples[fast[0]: fast[-1] + 1])
+        first = fast[0]
+        if first > 0 and self.samples[first].t - self.samples[first - 1].t > gap_s:
+            first -= 1  # the hand was not seen for a while: the fast motion began where it was last seen
+        return Stroke(self.axis, self.direction, self.samples[first: fast[-1] + 1])
 
     @property
     def body_speed(self) -> float:

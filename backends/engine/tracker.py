@@ -30,8 +30,6 @@ class TrackerOptions(BaseModel):
     match_slack_mm: float = Field(150, ge=0, description="matching distance allowed on top of max speed * dt")
     match_max_gap_s: float = Field(0.1, gt=0, description="the gate stops growing after this long unseen: "
                                    "a hand that reappears far away is a new hand")
-    side_margin_mm: float = Field(100, ge=0, description="an arm joining the body this far on the other side "
-                                  "of the spine is not this track's hand")
     predict_s: float = Field(0.0, ge=0, le=0.2, description=(
         "report hands this far ahead along their velocity: compensates a show's output latency "
         "(projector, renderer) so effects land on the hands; 0 reports where the hand was seen"))
@@ -71,6 +69,7 @@ class _Track:
     born: float
     seen: float
     at_border: bool = False
+    confidence: float = 1.0
     reported: bool = False
 
 
@@ -103,10 +102,10 @@ class HandTracker:
     # -- tracks ------------------------------------------------------------------------------
     def _update_tracks(self, t: float, found: list[Candidate], torso: np.ndarray | None,
                        mirrored: bool) -> tuple[Hand, ...]:
-        matched = self._match(t, found, torso, mirrored)
+        matched = self._match(t, found)
         out: list[Hand] = []
         for track, cand in matched.items():
-            track.seen, track.at_border = t, cand.at_border
+            track.seen, track.at_border, track.confidence = t, cand.at_border, cand.confidence
             track.position = track.filter(t, cand.position) + self.options.predict_s * track.filter.velocity
         free = [c for c in found if c not in matched.values()]
         for cand in free:
@@ -114,13 +113,15 @@ class HandTracker:
                 stale = [tr for tr in self._tracks if tr not in matched]
                 if not stale:
                     break
-                self._tracks.remove(min(stale, key=lambda tr: tr.seen))
+                evicted = min(stale, key=lambda tr: tr.seen)  # a new hand replaces the longest unseen one
+                self._tracks.remove(evicted)
+                out.append(self._hand(evicted, HandState.LOST, 0.0))
             self._tracks.append(self._birth(t, cand, torso, mirrored))
         for track in list(self._tracks):
             unseen = t - track.seen
             if unseen > self.options.lost_timeout_s:
                 self._tracks.remove(track)
-                out.append(self._hand(track, HandState.LOST, 0.0))
+                out.append(self._hand(track, HandState.LOST, 0.0))  # where it was last seen
                 continue
             if unseen > 0:
                 continue  # out of sight for now: the id waits for the hand, nothing stale is reported
@@ -131,11 +132,10 @@ class HandTracker:
             else:
                 state = HandState.TRACKING
             track.reported = True
-            out.append(self._hand(track, state, 1.0))
+            out.append(self._hand(track, state, track.confidence))
         return tuple(sorted(out, key=lambda h: h.id))
 
-    def _match(self, t: float, found: list[Candidate], torso: np.ndarray | None,
-               mirrored: bool) -> dict[_Track, Candidate]:
+    def _match(self, t: float, found: list[Candidate]) -> dict[_Track, Candidate]:
         """The assignment of candidates to live tracks with the smallest total distance, within gates."""
         tracks = self._tracks
         if not tracks or not found:
@@ -151,7 +151,7 @@ class HandTracker:
                 tr, c = (small[i], large[j]) if small is tracks else (large[j], small[i])
                 d = float(np.linalg.norm(tr.position - c.position))
                 gate = o.match_slack_mm + o.max_speed_mm_s * min(t - tr.seen, o.match_max_gap_s)
-                if d <= gate and self._side_of(c, torso, mirrored, o.side_margin_mm) in (tr.side, Side.UNKNOWN):
+                if d <= gate:
                     pairs[tr] = c
                     cost += d
                 else:
@@ -161,18 +161,18 @@ class HandTracker:
         return best
 
     def _birth(self, t: float, cand: Candidate, torso: np.ndarray | None, mirrored: bool) -> _Track:
-        side = self._side_of(cand, torso, mirrored, 0.0)
+        side = self._side_of(cand, torso, mirrored)
         track = _Track(self._next_id, side, OneEuroFilter(self.options.smoothing), cand.position, t, t,
-                       cand.at_border)
+                       cand.at_border, cand.confidence)
         track.position = track.filter(t, cand.position)
         self._next_id += 1
         return track
 
     @staticmethod
-    def _side_of(cand: Candidate, torso: np.ndarray | None, mirrored: bool, margin: float) -> Side:
+    def _side_of(cand: Candidate, torso: np.ndarray | None, mirrored: bool) -> Side:
         """The performer's side the arm joins the body on (where it starts, not where the hand
-        is, so a hand across the body keeps its side); UNKNOWN within `margin` of the spine."""
-        if torso is None or abs(cand.root[0] - torso[0]) < max(margin, 1e-9):
+        is, so a hand first seen across the body gets its own side)."""
+        if torso is None:
             return Side.UNKNOWN
         image_right = cand.root[0] > torso[0]
         return Side.RIGHT if image_right == mirrored else Side.LEFT

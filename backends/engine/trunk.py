@@ -92,6 +92,8 @@ class BodyEstimator:
         self._surface_z = surface
         torso = np.array([tx, shoulder_y - o.spine_below_shoulder_mm, surface + o.joint_depth_mm])
         head_cells = column & (g.y > shoulder_y + 100)
+        if crown is not None:  # a hand raised over the head is not its crown
+            crown = min(crown, shoulder_y + o.shoulder_below_crown_mm)
         if crown is None or not head_cells.any():
             head = np.array([tx, shoulder_y + o.shoulder_below_crown_mm - o.crown_above_head_mm, torso[2]])
         else:

@@ -40,7 +40,8 @@ class NetworkOptions(BaseModel):
             try:
                 endpoints(value)
             except ValueError:
-                raise ValueError("expected tcp://HOST:PORT such as tcp://127.0.0.1:5555 (depth uses PORT + 1)") from None
+                raise ValueError("expected tcp://HOST:PORT such as tcp://127.0.0.1:5555 "
+                                 "(depth uses PORT + 1)") from None
         return value
 
 

@@ -225,9 +225,9 @@ class RosPublisher:
         header = self._header(frame.capture_time)
         if self.pubs["depth"].get_num_connections():
             self.pubs["depth"].publish(self.m["DepthFrame"](
-                header=header, depth_data=_array(d.data.reshape(-1), np.uint16), frame_width=d.width, frame_height=d.height,
-                frame_id=d.frame_id % 65536, frame_timestamp=_stamp(d.timestamp), intrinsics=_array(i.as_list(), np.float64),
-                mirrored=d.mirrored, frame_seq=frame.seq))
+                header=header, depth_data=_array(d.data.reshape(-1), np.uint16), frame_width=d.width,
+                frame_height=d.height, frame_id=d.frame_id % 65536, frame_timestamp=_stamp(d.timestamp),
+                intrinsics=_array(i.as_list(), np.float64), mirrored=d.mirrored, frame_seq=frame.seq))
         if self.pubs["image"].get_num_connections():
             self.pubs["info"].publish(sensor_msgs.msg.CameraInfo(
                 header=header, width=d.width, height=d.height, K=[i.fx, 0, i.cx, 0, i.fy, i.cy, 0, 0, 1]))

@@ -8,7 +8,6 @@ from pathlib import Path
 
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-from host import report
 from host.compare import run_backend
 from host.errors import UserError
 from host.plugins import default_registry
@@ -32,8 +31,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="where report.md and its PNGs go")
 
 
-def describe(path: Path) -> report.RecordingInfo:
+def describe(path: Path) -> "report.RecordingInfo":
     """Frame count, duration and size of the recording (reads the depth headers, not the pixels)."""
+    from host import report  # matplotlib loads only when a report is made
     with Recording(path) as rec:
         first = last = None
         frames = 0
@@ -47,6 +47,8 @@ def describe(path: Path) -> report.RecordingInfo:
 
 
 def main(args: argparse.Namespace) -> int:
+    from host import report
+
     path = Path(args.recording)
     registry = default_registry()
     for name in args.backends:

@@ -128,3 +128,32 @@ def test_a_stream_that_starts_again_is_a_new_performance():
     frames = list(c.swipe().frames())
     events = [e for _ in range(2) for t, hands, body in frames for e in recognizer.update(t, hands, body, True)]
     assert completed(events) == ["swipe_left", "swipe_left"]
+
+
+@pytest.mark.parametrize("how", ["vanishes", "lost"])
+def test_a_swipe_just_before_the_hand_leaves_the_view_still_completes(how):
+    """A depth tracker may lose the hand as it drops back to the body right after the swipe."""
+    performance = c.swipe()  # the stroke ends at 1.7 s; the hand stays up until 2.1 s
+    recognizer = GestureRecognizer(GestureRules())
+    events = []
+    for t, hands, body in performance.frames():
+        if t > 1.8:
+            right = [h for h in hands if h.side is Side.RIGHT]
+            hands = [h for h in hands if h.side is not Side.RIGHT]
+            if how == "lost" and t < 1.85:
+                hands += [Hand(h.id, HandState.LOST, h.position, h.side) for h in right]
+        events += recognizer.update(t, hands, body, True)
+    assert completed(events) == ["swipe_left"]
+
+
+def test_a_hand_found_mid_rise_or_lost_mid_drop_is_no_vertical_swipe():
+    """A depth tracker often sees a hand only once it leaves the body: lifting the arm from rest
+    then looks like a fast rise from chest height, and dropping it like a fall that vanishes."""
+    performance = c.hand_raise(above_head=300, hold=0.8, move=0.5)  # a quick raise high above the head and back
+    recognizer = GestureRecognizer(GestureRules())
+    events = []
+    for t, hands, body in performance.frames():
+        torso_y = body["torso"][1]
+        hands = [h for h in hands if h.side is Side.RIGHT and h.position[1] - torso_y > 0]  # off the body only
+        events += recognizer.update(t, hands, body, True)
+    assert not [n for n in completed(events) if n.startswith("swipe")]

@@ -34,7 +34,9 @@ def test_serve_across_a_100_mbit_link(tmp_path):
     streams = got["streams"]
     assert got["frames"] >= 60, err
     assert streams["hands"]["lost"] == 0 and streams["gestures"]["lost"] == 0
-    assert streams["hands"]["received"] >= sent["sent"]["hands"] - 15  # a late joiner may miss the start
+    # a late joiner misses the start; from its first message on, nothing is missing, up to the last
+    # one the publisher announced in its goodbye
+    assert 60 <= streams["hands"]["received"] <= sent["sent"]["hands"]
     assert streams["depth"]["received"] >= 0.9 * streams["hands"]["received"]
     assert got["malformed"] == {}
 
