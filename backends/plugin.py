@@ -1,8 +1,9 @@
 """Registers the built-in backends, exactly as a third-party plugin would."""
-from backends.engine.backend import (OpenISSBackend, OpenISSNiteBackend, OpenISSNuitrackBackend,
-                                     SimpleOpenNIBackend)
+from backends.engine.backend import OpenISSBackend, SimpleOpenNIBackend
 from backends.network.backend import NetworkBackend
 from backends.replay import ReplayBackend
+from backends.sdk.nite import NiteBackend
+from backends.sdk.nuitrack import NuitrackBackend
 from backends.truth import TruthBackend
 from host import hookimpl
 
@@ -12,7 +13,7 @@ def register_backends(register):
     register(TruthBackend)
     register(OpenISSBackend)
     register(SimpleOpenNIBackend)
-    register(OpenISSNiteBackend)
-    register(OpenISSNuitrackBackend)
+    register(NiteBackend)  # openiss-nite: NiTE2 when installed, else the open engine in NiTE mode
+    register(NuitrackBackend)  # openiss-nuitrack: Nuitrack when installed, else the engine in its mode
     register(ReplayBackend)
     register(NetworkBackend)

@@ -34,4 +34,7 @@ def report(title: str, figures: dict, rows: list[list], columns: list[str], as_j
         table.add_column(column)
     for row in rows:
         table.add_row(*[f"{v:.3f}" if isinstance(v, float) else str(v) for v in row])
-    Console().print(table)
+    console = Console()
+    if not console.is_terminal:  # a log or a pipe: keep every column whole
+        console = Console(width=200)
+    console.print(table)

@@ -33,16 +33,17 @@ from host.plugins import default_registry
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "utd-mhad-dev"
 POSITIVE = {"swipe_left": "swipe_left", "swipe_right": "swipe_right", "wave": "wave", "push": "click"}
 NEGATIVE = {"clap", "arm_curl", "jog", "walk", "sit2stand", "stand2sit", "lunge", "squat"}
+SECTION = {"recogniser": "synth truth", "backend": "synth depth"}  # the recogniser on truth hands; the backend on depth
 MATCH_AFTER_S = 1.0  # a COMPLETE up to this long after a truth interval's end still matches it
-PERFORMERS = {  # name -> synthetic source options
-    "default (1.75 m, 2.5 m away)": {},
-    "short, near (1.55 m, 1.8 m)": {"height_mm": 1550, "distance_mm": 1800},
-    "tall, far (1.95 m, 3.5 m)": {"height_mm": 1950, "distance_mm": 3500},
+PERFORMERS = {  # name -> synthetic source options (default: 1.75 m tall, 2.5 m away, right-handed)
+    "default": {},
+    "1.55 m, 1.8 m away": {"height_mm": 1550, "distance_mm": 1800},
+    "1.95 m, 3.5 m away": {"height_mm": 1950, "distance_mm": 3500},
     "left-handed": {"handedness": "left"},
-    "slow (speed 0.75)": {"speed": 0.75},
-    "fast (speed 1.3)": {"speed": 1.3},
-    "noisy sensor (x2.5)": {"noise": 2.5, "holes": 2.5},
-    "unmirrored camera": {"mirrored": False},
+    "slow (x0.75)": {"speed": 0.75},
+    "fast (x1.3)": {"speed": 1.3},
+    "noisy (x2.5)": {"noise": 2.5, "holes": 2.5},
+    "unmirrored": {"mirrored": False},
 }
 
 
@@ -232,7 +233,7 @@ def rows_of(section: str, gestures: dict) -> list[list]:
         lat = f["latency_s"]
         rows.append([section, g, _fmt(f["precision"]), _fmt(f["recall"]), _fmt(f["f1"]),
                      f"{f['tp']}/{f['fp']}/{f['fn']}",
-                     "-" if lat is None else f"{lat['p50']:+.2f} / {lat['p90']:+.2f}"])
+                     "-" if lat is None else f"{lat['p50']:+.2f}/{lat['p90']:+.2f}"])
     return rows
 
 
@@ -251,17 +252,17 @@ def main() -> None:
     rows.append(["real csv", "false fires", _fmt(figures["real_trajectories"]["false_fire_rate"]),
                  "", "", "", ""])
     if "real_clips" in figures:
-        rows += rows_of("real clips", figures["real_clips"]["gestures"])
-        rows.append(["real clips", "false fires", _fmt(figures["real_clips"]["false_fire_rate"]), "", "", "", ""])
+        rows += rows_of("real depth", figures["real_clips"]["gestures"])
+        rows.append(["real depth", "false fires", _fmt(figures["real_clips"]["false_fire_rate"]), "", "", "", ""])
     for kind, gestures in figures["synthetic"]["overall"].items():
-        rows += rows_of(f"synth. {kind}", gestures)
+        rows += rows_of(SECTION[kind], gestures)
     for performer, kinds in figures["synthetic"]["performers"].items():
         for kind, gestures in kinds.items():
             tp, fp, fn = (sum(f[k] for f in gestures.values()) for k in ("tp", "fp", "fn"))
-            rows.append([f"synth. {kind}", performer, "", _fmt(tp / (tp + fn) if tp + fn else None), "",
+            rows.append([SECTION[kind], performer, "", _fmt(tp / (tp + fn) if tp + fn else None), "",
                          f"{tp}/{fp}/{fn}", ""])
     report(f"gestures, backend {args.backend} (latency: COMPLETE - end of motion, s)", figures, rows,
-           ["data", "gesture", "precision", "recall", "F1", "tp/fp/fn", "latency p50 / p90"], args.json)
+           ["data", "gesture", "precision", "recall", "F1", "tp/fp/fn", "latency p50/p90"], args.json)
 
 
 if __name__ == "__main__":

@@ -174,6 +174,13 @@ class DepthFrame:
         return self.intrinsics.depth_to_world(u, v, z)
 
 
+def _plain_numbers(event: "Hand | Gesture") -> None:
+    """Backends may compute with numpy; events carry plain Python numbers so every consumer
+    (JSON lines, OSC, recordings, the network) can serialise them."""
+    object.__setattr__(event, "position", tuple(float(c) for c in event.position))
+    object.__setattr__(event, "confidence", float(event.confidence))
+
+
 @dataclass(frozen=True)
 class Hand:
     """OIHandData: one tracked hand."""
@@ -184,6 +191,9 @@ class Hand:
     side: Side = Side.UNKNOWN
     user_id: int = 1
     confidence: float = 1.0
+
+    def __post_init__(self) -> None:
+        _plain_numbers(self)
 
     def to_json(self) -> dict:
         return {"id": self.id, "state": self.state.value, "side": self.side.value,
@@ -201,6 +211,9 @@ class Gesture:
     side: Side = Side.UNKNOWN
     confidence: float = 1.0
     timestamp: float = 0.0
+
+    def __post_init__(self) -> None:
+        _plain_numbers(self)
 
     @property
     def name(self) -> str:

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import time
+from typing import Callable
 
 from rich.console import Console
 from rich.live import Live
@@ -24,8 +25,9 @@ def line(m: Metrics) -> str:
 class StatusLine:
     """Redraws at most 4 times a second, only on a terminal (logs stay clean)."""
 
-    def __init__(self) -> None:
+    def __init__(self, extra: Callable[[], str] | None = None) -> None:
         self.enabled = stderr.is_terminal
+        self.extra = extra  # a second line, e.g. what `issv serve` has published
         self._live: Live | None = None
         self._next = 0.0
 
@@ -39,7 +41,8 @@ class StatusLine:
         now = time.monotonic()
         if self._live is not None and now >= self._next:
             self._next = now + 0.25
-            self._live.update(line(show.metrics))
+            text = line(show.metrics)
+            self._live.update(text if self.extra is None else f"{text}\n{self.extra()}")
 
     def __exit__(self, *exc: object) -> None:
         if self._live is not None:

@@ -1,7 +1,7 @@
 """Every threshold of the gesture recogniser, in millimetres and seconds, in one place.
 
 A profile overrides any of them through its backend options, e.g.
-`[backend.options] gestures = {swipe_min_travel_mm = 300}`. The defaults describe an adult
+`[backend] name = "openiss"  gestures = {swipe_min_travel_mm = 300}`. The defaults describe an adult
 performer moving deliberately; they are physical and relative to the body (the torso and head
 reference points), never derived from one performer's recordings or normalised per clip.
 Positions are camera coordinates (x towards the image's right, y up, z away from the camera);

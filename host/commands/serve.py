@@ -7,20 +7,17 @@ from __future__ import annotations
 
 import argparse
 import json
-import signal
 import sys
-import time
 from pathlib import Path
-
-from rich.live import Live
 
 from host import profile as profiles
 from host.assemble import make_backend
-from host.contracts import Backend, Stage
+from host.commands.run import check_sensor, play
+from host.contracts import Stage
 from host.errors import UserError
 from host.loop import Limits, Show
-from host.model import Frame
-from host.status import line, stderr, summary
+from host.status import StatusLine
+from host.tap import SensorTap
 
 HELP = "publish a profile's backend frames on the network (subscribe with backend = \"network\")"
 DEFAULT_BIND = "tcp://127.0.0.1:5555"
@@ -56,61 +53,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--stats-json", metavar="FILE", help="write what was published as JSON at exit")
 
 
-class Publishing(Backend):
-    """The profile's backend, publishing each frame it makes before the show sees it."""
-
-    def __init__(self, inner: Backend, publisher) -> None:
-        super().__init__(inner.source, inner.options)
-        self.inner, self.publisher, self.name = inner, publisher, inner.name
-
-    def init(self) -> None:
-        self.inner.init()
-
-    def start_gesture_detection(self) -> None:
-        self.inner.start_gesture_detection()
-
-    def start_hand_tracking(self) -> None:
-        self.inner.start_hand_tracking()
-
-    def update(self) -> Frame | None:
-        frame = self.inner.update()
-        if frame is not None:
-            self.publisher.publish(frame)
-        return frame
-
-    def stop(self) -> None:
-        self.inner.stop()
-
-    def world_to_depth(self, position):
-        return self.inner.world_to_depth(position)
-
-
-class ServeStatus:
-    """The show's status line plus what the publisher sent, redrawn 4 times a second on a terminal."""
-
-    def __init__(self, publisher) -> None:
-        self.publisher = publisher
-        self._live: Live | None = None
-        self._next = 0.0
-
-    def __enter__(self) -> "ServeStatus":
-        if stderr.is_terminal:
-            self._live = Live("", console=stderr, refresh_per_second=4, transient=True)
-            self._live.__enter__()
-        return self
-
-    def __call__(self, show: Show) -> None:
-        now = time.monotonic()
-        if self._live is not None and now >= self._next:
-            self._next = now + 0.25
-            s = self.publisher.stats()
-            self._live.update(f"{line(show.metrics)}\n[bold]serve[/] {s['bind']}  subscribers {s['subscribers']}  "
-                              f"sent {s['sent']}  depth skipped {s['depth_skipped']}  "
-                              f"compression {s['compression'] or '-'}x")
-
-    def __exit__(self, *exc: object) -> None:
-        if self._live is not None:
-            self._live.__exit__(*exc)
+def published(publisher) -> str:
+    s = publisher.stats()
+    return (f"[bold]serve[/] {s['bind']}  subscribers {s['subscribers']}  sent {s['sent']}  "
+            f"depth skipped {s['depth_skipped']}  compression {s['compression'] or '-'}x")
 
 
 def make_publisher(args: argparse.Namespace, backend: str):
@@ -134,26 +80,18 @@ def main(args: argparse.Namespace) -> int:
                         "computes frames (e.g. profiles/demo.toml)")
     inner = make_backend(prof, realtime=not args.fast)
     publisher = make_publisher(args, inner.name)
-    backend = Publishing(inner, publisher)
-    stage = Stage(size=tuple(prof.model.output.size), fps=prof.model.output.fps, backend=backend.name)
-    status = ServeStatus(publisher)
+    # Every frame the backend makes is published on the sensor thread, before newest-wins.
+    backend = SensorTap(inner, publisher.publish, publisher.close)
+    stage = Stage(size=tuple(prof.model.output.size), fps=prof.model.output.fps, backend=inner.name)
+    status = StatusLine(extra=lambda: published(publisher))
     show = Show(backend, [], stage, limits=Limits(args.frames, args.seconds), status=status)
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda *_: show.request_stop())
     where = publisher.stats()["bind"]
     print(f"issv serve: publishing backend {inner.name!r} at {where}; Ctrl-C stops", file=sys.stderr, flush=True)
-    try:
-        with status:
-            metrics = show.run()
-    finally:
-        publisher.close()
-    summary(metrics)
+    play(show, status)
     stats = publisher.stats()
     print(f"issv serve: sent {stats['sent']}, depth skipped {stats['depth_skipped']}, "
           f"compression {stats['compression'] or '-'}x", file=sys.stderr, flush=True)
     if args.stats_json:
         Path(args.stats_json).write_text(json.dumps(stats, indent=2) + "\n")
-    if show.sensor_error is not None:
-        err = show.sensor_error
-        raise UserError(f"issv serve: backend {inner.name!r} failed: {type(err).__name__}: {err}")
+    check_sensor(show)
     return 0

@@ -163,3 +163,15 @@ def walk(distance: float = 2000.0, duration: float = 2.5, swing: float = 250.0) 
         return at
 
     return Performance({Side.LEFT: arm(Side.LEFT), Side.RIGHT: arm(Side.RIGHT)}, duration + 0.8, torso)
+
+
+def clap(claps: int = 4, apart: float = 600.0, beat: float = 0.25) -> Performance:
+    """Both hands up at shoulder height, `apart` mm apart, brought together `claps` times."""
+    hands = {}
+    for side, sign in ((Side.LEFT, -1.0), (Side.RIGHT, 1.0)):
+        wide, together = (sign * apart / 2, 300.0, -300.0), (sign * 30.0, 300.0, -300.0)
+        path = rest(side).hold(0.3).then(0.5, wide)
+        for _ in range(claps):
+            path = path.then(beat, together).then(beat, wide)
+        hands[side] = path.then(0.6, REST[side])
+    return Performance(hands, max(p.end for p in hands.values()) + 0.5)

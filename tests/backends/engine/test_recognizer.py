@@ -71,6 +71,11 @@ def test_a_wave_below_the_shoulders_or_with_two_swings_is_not_a_wave():
     assert completed(perform(c.wave(swings=2))) == []  # one reversal
 
 
+def test_clapping_is_neither_swipes_nor_a_wave():
+    """Each hand alone would sweep 27 cm sideways, again and again, at shoulder height."""
+    assert completed(perform(c.clap(claps=4, apart=600))) == []
+
+
 @pytest.mark.parametrize("with_body", [True, False], ids=["skeleton", "hands-only"])
 def test_a_push_of_both_hands_is_a_click(with_body):
     names = completed(perform(c.push(), with_body=with_body))

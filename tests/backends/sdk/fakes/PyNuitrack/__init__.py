@@ -1,0 +1,1 @@
+"""FAKE of Nuitrack's PyNuitrack package (tests only, see ../README.md)."""
