@@ -17,7 +17,7 @@ done
 if [ ${#missing[@]} -gt 0 ]; then
   echo "setup: installing Debian packages: ${missing[*]}"
   apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
 
 # ROS 1 from Debian installs into Debian's python3 dist-packages; a .pth file naming that folder
@@ -25,7 +25,10 @@ fi
 echo /usr/lib/python3/dist-packages > "$(python3 -c 'import site; print(site.getsitepackages()[0])')/issv-debian-ros.pth"
 
 echo "setup: installing issv (pip install -e '.[test]')"
-python3 -m pip install -q --disable-pip-version-check -e '.[test]' 2>&1 | grep -v "Running pip as the 'root' user" || true
+log=$(mktemp)
+if ! python3 -m pip install -q --disable-pip-version-check --root-user-action=ignore -e '.[test]' >"$log" 2>&1; then
+  cat "$log" >&2; echo "setup: pip install failed (above)" >&2; exit 1
+fi
 command -v pyenv >/dev/null && pyenv rehash || true
 command -v issv >/dev/null || { echo "setup: issv is not on PATH after install" >&2; exit 1; }
 echo "setup: done ($(issv --version))"
