@@ -196,28 +196,33 @@ class Show:
     def run(self) -> Metrics:
         for slot in self.effects:
             self._call(slot, "setup", self.stage)
-        self.backend.init()
-        if self.backend.source is not None:
-            self.metrics.source_fps = float(self.backend.source.fps)
         try:
-            self.backend.start_hand_tracking()
-            self.backend.start_gesture_detection()
-            if self.pm is not None:
-                self.pm.hook.host_started(show=self)
-            sensor = threading.Thread(target=self._sensor, name="issv-sensor", daemon=True)
-            sensor.start()
-            self._show_loop()
-            self._stop.set()
-            sensor.join(timeout=2.0)
-            if self.pm is not None:
-                self.pm.hook.host_stopping(show=self)
+            self.backend.init()
+            try:
+                self._play()
+            finally:
+                self.backend.stop()
         finally:
-            self.backend.stop()
             for slot in self.effects:
                 self._close(slot.effect, slot.where)
             if self.renderer is not None:
                 self.renderer.close()
         return self.metrics
+
+    def _play(self) -> None:
+        if self.backend.source is not None:
+            self.metrics.source_fps = float(self.backend.source.fps)
+        self.backend.start_hand_tracking()
+        self.backend.start_gesture_detection()
+        if self.pm is not None:
+            self.pm.hook.host_started(show=self)
+        sensor = threading.Thread(target=self._sensor, name="issv-sensor", daemon=True)
+        sensor.start()
+        self._show_loop()
+        self._stop.set()
+        sensor.join(timeout=2.0)
+        if self.pm is not None:
+            self.pm.hook.host_stopping(show=self)
 
     def _close(self, effect: Effect, where: str) -> None:
         try:
