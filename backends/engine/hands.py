@@ -5,7 +5,9 @@ A cell of the user is "extended" when it is in front of the trunk (push, click),
 hips (legs are not hands). Each connected patch of extended cells is one arm; its hand is the
 centre of the cells within a palm's reach of the patch's point farthest from where the patch
 joins the rest of the body without a depth jump (the elbow of a raised forearm, the shoulder of
-an outstretched arm), so a bent or crossing arm still ends in its hand. All in mm.
+an outstretched arm), so a bent or crossing arm still ends in its hand. An arm has one hand:
+of two ends on one side of the spine the one farther from that side's shoulder is kept, and an
+end beside and behind the trunk within an upper arm of its shoulder is an elbow. All in mm.
 """
 from __future__ import annotations
 
@@ -35,6 +37,12 @@ class HandOptions(BaseModel):
     second_hand_ratio: float = Field(0.8, gt=0, le=1, description=(
         "a second end of one patch counts as a hand when it reaches this share of the first's "
         "distance from the body (an elbow reaches about half)"))
+    shoulder_half_width_mm: float = Field(180, gt=0, description=(
+        "shoulder joints this far either side of the spine: of two ends on one side, the hand is "
+        "the one farther from that shoulder (the other is its elbow)"))
+    elbow_reach_mm: float = Field(370, gt=0, description=(
+        "an end below the shoulders, behind the spine and this close to its shoulder joint is an "
+        "elbow sticking out (hands on the hips, a forearm lifting in front of the body), not a hand"))
     max_hands: int = Field(2, ge=1)
 
 
@@ -92,18 +100,42 @@ class HandDetector:
                     other = pts[tips[1] if tip == tips[0] else tips[0]]
                     palm &= np.linalg.norm(pts - other, axis=1) > np.linalg.norm(pts - pts[tip], axis=1)
                 position = pts[palm].mean(axis=0) + (0.0, 0.0, o.hand_depth_mm)
+                if self._elbow(position, body, neck):
+                    continue
                 at_border = bool(np.any((ys[palm] == 0) | (ys[palm] == h - 1) | (xs[palm] == 0) | (xs[palm] == w - 1)))
                 reach = float(np.linalg.norm(pts[tip] - neck))
                 # Sides: by where the arm joins the body; for two hands of one patch, by each hand.
                 seen = g.pixel_area_mm2[ys[palm], xs[palm]].sum() / (o.palm_area_m2 * 1e6)
                 found.append(Candidate(position, reach, at_border,
                                        root if joint.any() and len(tips) == 1 else position, min(1.0, seen)))
+        found = self._one_per_arm(found, neck)
         found.sort(key=lambda c: -c.reach)
         kept: list[Candidate] = []
         for c in found:  # two patches of one arm (cut by the head's clearance) are one hand
             if all(np.linalg.norm(c.position - k.position) > o.hands_apart_mm for k in kept):
                 kept.append(c)
         return kept[: o.max_hands]
+
+    def _shoulder(self, x: float, neck: np.ndarray) -> np.ndarray:
+        """The shoulder joint on the side of the body where x is."""
+        return neck + (np.copysign(self.options.shoulder_half_width_mm, x - neck[0]), 0.0, 0.0)
+
+    def _elbow(self, position: np.ndarray, body: Body, neck: np.ndarray) -> bool:
+        """Below the shoulders, behind the spine and within an upper arm of the shoulder: an elbow."""
+        near = np.linalg.norm(position - self._shoulder(position[0], neck)) < self.options.elbow_reach_mm
+        return bool(position[1] < body.shoulder_y and position[2] > body.torso[2] and near)
+
+    def _one_per_arm(self, found: list[Candidate], neck: np.ndarray) -> list[Candidate]:
+        """An arm has one hand: of the ends joined to the body on one side of the spine (a
+        forearm in front and its elbow sticking out beside the body), the one farthest from that
+        side's shoulder joint."""
+        best: dict[bool, tuple[float, Candidate]] = {}
+        for c in found:
+            right = bool(c.root[0] > neck[0])
+            d = float(np.linalg.norm(c.position - self._shoulder(c.root[0], neck)))
+            if right not in best or d > best[right][0]:
+                best[right] = (d, c)
+        return [c for _, c in best.values()]
 
     def _attached(self, cand: np.ndarray, rest: np.ndarray, z: np.ndarray) -> np.ndarray:
         """Candidate cells joined to the rest of the body without a depth jump: where each arm starts."""

@@ -1,9 +1,14 @@
 """The depth hand tracker of the open engine: segmentation -> body frame -> hand candidates -> tracks.
 
-Tracks keep their id for as long as the hand is seen again within `lost_timeout_s` (an unseen
-hand is left out of the frame rather than reported where it was), go NEW -> TRACKING -> LOST, and report TOUCHING_FOV while the hand
-touches the edge of the image. Left and right are the performer's, fixed when a track is born
-(a right hand that swipes across the body stays the right hand).
+Tracks keep their id for as long as the hand is seen again within `lost_timeout_s`, go NEW ->
+TRACKING -> LOST, and report TOUCHING_FOV while the hand touches the edge of the image. Left and
+right are the performer's, fixed when a track is born (a right hand that swipes across the body
+stays the right hand). Hysteresis keeps effects steady on noisy depth: a candidate becomes a
+hand once seen again `confirm_s` later (at once when the sensor saw enough of a palm), a tracked
+hand missed for up to `hold_s` is still reported where it was last seen (longer, it is left out
+of the frame rather than reported where it was), and an arm has one hand: a candidate on the
+side of a hand in view and nearer the body than it (an elbow sticking out during a swipe) is
+not a new hand.
 """
 from __future__ import annotations
 
@@ -28,6 +33,14 @@ class TrackerOptions(BaseModel):
     lost_timeout_s: float = Field(0.5, ge=0, description="a hand unseen this long is LOST; seen again sooner, it keeps its id")
     max_speed_mm_s: float = Field(5000, gt=0, description="fastest plausible hand: gates matching across frames")
     match_slack_mm: float = Field(150, ge=0, description="matching distance allowed on top of max speed * dt")
+    confirm_s: float = Field(0.03, ge=0, description=(
+        "a new candidate becomes a hand when seen again this much later (one frame at 30 fps): "
+        "a patch seen once is noise"))
+    strong_confidence: float = Field(0.3, ge=0, le=1, description=(
+        "a candidate this confident (the share of a palm the sensor saw) is a hand at once"))
+    hold_s: float = Field(0.07, ge=0, description=(
+        "a tracked hand missed for up to this long is still reported where it was last seen "
+        "(two frames at 30 fps): a dropout does not make it flicker lost/new"))
     match_max_gap_s: float = Field(0.1, gt=0, description="the gate stops growing after this long unseen: "
                                    "a hand that reappears far away is a new hand")
     predict_s: float = Field(0.0, ge=0, le=0.2, description=(
@@ -71,6 +84,8 @@ class _Track:
     at_border: bool = False
     confidence: float = 1.0
     reported: bool = False
+    confirmed: bool = False
+    reach: float = 0.0  # how far out the hand was last seen (mm from the neck)
 
 
 def _vec(a: np.ndarray) -> Vec3:
@@ -102,28 +117,38 @@ class HandTracker:
     # -- tracks ------------------------------------------------------------------------------
     def _update_tracks(self, t: float, found: list[Candidate], torso: np.ndarray | None,
                        mirrored: bool) -> tuple[Hand, ...]:
+        o = self.options
         matched = self._match(t, found)
         out: list[Hand] = []
         for track, cand in matched.items():
             track.seen, track.at_border, track.confidence = t, cand.at_border, cand.confidence
-            track.position = track.filter(t, cand.position) + self.options.predict_s * track.filter.velocity
-        free = [c for c in found if c not in matched.values()]
+            track.reach = cand.reach
+            track.position = track.filter(t, cand.position) + o.predict_s * track.filter.velocity
+            track.confirmed = track.confirmed or t - track.born >= o.confirm_s
+        for track in [tr for tr in self._tracks if not tr.confirmed and tr not in matched]:
+            self._tracks.remove(track)  # a candidate seen once and not again: noise, never reported
+        free = [c for c in found if c not in matched.values()]  # farthest reach first
         for cand in free:
-            if len(self._tracks) >= self.options.hands.max_hands:
+            side = self._side_of(cand, torso, mirrored)
+            same = [tr for tr in self._tracks if tr.side is side and side is not Side.UNKNOWN]
+            in_view = [tr for tr in same if t - tr.seen <= o.hold_s]
+            if any(cand.reach <= tr.reach for tr in in_view):
+                continue  # on the side of a hand in view, nearer the body: another part of that arm
+            for old in same:  # that side's hand, out of sight for a while, is found elsewhere: a new hand
+                if old not in in_view:
+                    out.extend(self._drop(old))
+            if len(self._tracks) >= o.hands.max_hands:
                 stale = [tr for tr in self._tracks if tr not in matched]
                 if not stale:
                     break
-                evicted = min(stale, key=lambda tr: tr.seen)  # a new hand replaces the longest unseen one
-                self._tracks.remove(evicted)
-                out.append(self._hand(evicted, HandState.LOST, 0.0))
-            self._tracks.append(self._birth(t, cand, torso, mirrored))
+                out.extend(self._drop(min(stale, key=lambda tr: tr.seen)))  # replaces the longest unseen
+            self._tracks.append(self._birth(t, cand, side))
         for track in list(self._tracks):
             unseen = t - track.seen
-            if unseen > self.options.lost_timeout_s:
-                self._tracks.remove(track)
-                out.append(self._hand(track, HandState.LOST, 0.0))  # where it was last seen
+            if unseen > o.lost_timeout_s:
+                out.extend(self._drop(track))  # where it was last seen
                 continue
-            if unseen > 0:
+            if not track.confirmed or unseen > o.hold_s or (unseen > 0 and not track.reported):
                 continue  # out of sight for now: the id waits for the hand, nothing stale is reported
             if not track.reported:
                 state = HandState.NEW
@@ -134,6 +159,11 @@ class HandTracker:
             track.reported = True
             out.append(self._hand(track, state, track.confidence))
         return tuple(sorted(out, key=lambda h: h.id))
+
+    def _drop(self, track: _Track) -> list[Hand]:
+        """End a track: LOST where it was last seen, if it was ever reported."""
+        self._tracks.remove(track)
+        return [self._hand(track, HandState.LOST, 0.0)] if track.reported else []
 
     def _match(self, t: float, found: list[Candidate]) -> dict[_Track, Candidate]:
         """The assignment of candidates to live tracks with the smallest total distance, within gates."""
@@ -160,11 +190,11 @@ class HandTracker:
                 best, best_cost = pairs, cost
         return best
 
-    def _birth(self, t: float, cand: Candidate, torso: np.ndarray | None, mirrored: bool) -> _Track:
-        side = self._side_of(cand, torso, mirrored)
+    def _birth(self, t: float, cand: Candidate, side: Side) -> _Track:
         track = _Track(self._next_id, side, OneEuroFilter(self.options.smoothing), cand.position, t, t,
-                       cand.at_border, cand.confidence)
+                       cand.at_border, cand.confidence, reach=cand.reach)
         track.position = track.filter(t, cand.position)
+        track.confirmed = self.options.confirm_s <= 0 or cand.confidence >= self.options.strong_confidence
         self._next_id += 1
         return track
 

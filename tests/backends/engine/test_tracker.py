@@ -82,7 +82,43 @@ def test_states_new_then_tracking_then_lost_once_after_the_timeout(wave):
     assert states.count(HandState.LOST) == 1 and states[-1] is HandState.LOST
     seen = [t for t, s in history[wave_id] if s is not HandState.LOST]
     lost_at = history[wave_id][-1][0]
-    assert lost_at - seen[-1] >= 0.3
+    assert lost_at - seen[-1] >= 0.3 - options.hold_s  # a missed hand is still reported for hold_s
+
+
+def extended(f: DepthFrame, side: Side) -> bool:
+    """The truth hand is out of its rest (score.py's rule): in front of the spine, beside it or
+    above the head."""
+    p, spine, head = f.truth.hands[side], f.truth.body["torso"], f.truth.body["head"]
+    return spine[2] - p[2] > 200 or abs(p[0] - spine[0]) > 350 or p[1] > head[1]
+
+
+def test_one_steady_hand_per_arm_through_a_one_handed_show():
+    """The right hand waves, swipes both ways and clicks, resting between: an effect drawing a
+    point per hand sees that hand come once per time it leaves its rest, nowhere else (not at the
+    elbow sticking out during a swipe, never two hands on one arm), without flickering lost/new."""
+    show = frames([{"action": "idle", "duration": 0.5}, {"action": "wave"}, {"action": "swipe_left"},
+                   {"action": "swipe_right"}, {"action": "click"}, {"action": "idle", "duration": 0.5}])
+    tracker = HandTracker()
+    shown: set[int] = set()
+    appearances = two_on_one_side = phantoms = reported = found = 0
+    for f in show:
+        live = [h for h in tracker.process(f).hands if h.state not in (HandState.LOST, HandState.ABSENT)]
+        ids = {h.id for h in live}
+        appearances += len(ids - shown)  # what an effect sees as "hand N new"
+        shown = ids
+        sides = [h.side for h in live]
+        two_on_one_side += len(sides) != len(set(sides))
+        truth = [np.array(p) for p in f.truth.hands.values()]
+        phantoms += sum(min(np.linalg.norm(np.subtract(h.position, p)) for p in truth) > 150 for h in live)
+        reported += len(live)
+        right = np.array(f.truth.hands[Side.RIGHT])
+        near = any(np.linalg.norm(np.subtract(h.position, right)) < 250 for h in live)
+        found += extended(f, Side.RIGHT) and near
+    outings = sum(extended(f, Side.RIGHT) and not extended(g, Side.RIGHT) for g, f in zip(show, show[1:]))
+    assert found > 0.8 * sum(extended(f, Side.RIGHT) for f in show), "the extended hand was often missed"
+    assert two_on_one_side == 0, f"two hands on one arm in {two_on_one_side} frames"
+    assert appearances <= outings, f"{appearances} hand appearances, the hand left its rest {outings} times"
+    assert phantoms <= 0.03 * reported, f"{phantoms} of {reported} reported hands far from any hand"
 
 
 def test_touching_fov_when_the_image_edge_cuts_the_hand():
@@ -94,13 +130,11 @@ def test_touching_fov_when_the_image_edge_cuts_the_hand():
     cropped = DepthFrame(np.ascontiguousarray(best.data[:, :cut]), best.intrinsics, 1, best.timestamp,
                          mirrored=best.mirrored, truth=best.truth)
     whole = HandTracker().process(best)
-    edge = HandTracker().process(cropped)
     assert any(h.state is HandState.NEW for h in whole.hands)
-    tracker = HandTracker()
-    tracker.process(cropped)
-    again = tracker.process(replace(cropped, timestamp=best.timestamp + 1 / 30))
-    assert any(h.state is HandState.TOUCHING_FOV for h in again.hands), [h.state for h in again.hands]
-    assert edge.hands, "the cut hand must still be reported"
+    tracker = HandTracker()  # a cut hand is weaker evidence: it may need a second frame to be a hand
+    edge = [tracker.process(replace(cropped, timestamp=best.timestamp + k / 30)) for k in range(3)]
+    assert edge[-1].hands, "the cut hand must still be reported"
+    assert any(h.state is HandState.TOUCHING_FOV for h in edge[-1].hands), [h.state for h in edge[-1].hands]
 
 
 @pytest.mark.parametrize("size", [(320, 240), (640, 480)])
