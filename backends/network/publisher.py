@@ -67,6 +67,23 @@ class DepthOptions:
         return replace(depth, data=data, intrinsics=intr)
 
 
+class DepthGate:
+    """Which frames' depth goes out: none when disabled, else at most `max_fps` images a second."""
+
+    def __init__(self, options: DepthOptions) -> None:
+        self.options = options
+        self._last = float("-inf")
+
+    def admit(self, frame: Frame) -> bool:
+        o = self.options
+        if not o.enabled or frame.depth is None:
+            return False
+        if o.max_fps and frame.capture_time - self._last < 0.95 / o.max_fps:
+            return False
+        self._last = frame.capture_time
+        return True
+
+
 class _DepthWorker(threading.Thread):
     """Compresses and sends the newest offered depth image; skips the ones it had no time for."""
 
@@ -139,7 +156,7 @@ class Publisher:
         self.subscribers = 0
         self._lock = threading.Lock()
         self._last_heartbeat = 0.0
-        self._last_depth_capture = float("-inf")
+        self._depth_gate = DepthGate(depth)
         self._worker = _DepthWorker(self.depth, self.session, depth)
         self._worker.start()
         self._closed = False
@@ -154,7 +171,7 @@ class Publisher:
                 self.seq["gestures"] += 1
                 self.events.send(wire.encode_gesture(self.session, self.seq["gestures"], frame.capture_time,
                                                      frame.seq, g))
-            with_depth = self._wants_depth(frame)
+            with_depth = self._depth_gate.admit(frame)
             self.seq["hands"] += 1
             self.events.send(wire.encode_hands(self.session, self.seq["hands"], frame.capture_time, frame.seq,
                                                frame.timestamp, frame.backend or self.backend, frame.hands,
@@ -174,15 +191,6 @@ class Publisher:
                     return True
             time.sleep(0.01)
         return False
-
-    def _wants_depth(self, frame: Frame) -> bool:
-        opts = self.depth_options
-        if not opts.enabled or frame.depth is None:
-            return False
-        if opts.max_fps and frame.capture_time - self._last_depth_capture < 0.95 / opts.max_fps:
-            return False
-        self._last_depth_capture = frame.capture_time
-        return True
 
     def _subscriptions(self) -> None:
         """XPUB hands us b'\\x01topic' when a subscriber joins and b'\\x00topic' when it leaves."""

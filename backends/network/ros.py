@@ -25,7 +25,7 @@ from functools import cache
 import numpy as np
 
 from backends.network import wire
-from backends.network.publisher import DepthOptions
+from backends.network.publisher import DepthGate, DepthOptions
 from backends.network.subscriber import Accounting, Notice, stderr_notice
 from host import (DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics,
                   PluginUnavailable, Side)
@@ -181,7 +181,7 @@ class RosPublisher:
         }
         self.where = f"{os.environ['ROS_MASTER_URI']} {ns}/*"
         self._last_status = 0.0
-        self._last_depth = float("-inf")
+        self._depth_gate = DepthGate(depth)
         self._final: dict | None = None
 
     def _header(self, capture_time: float):
@@ -211,13 +211,7 @@ class RosPublisher:
             self._status(wire.HEARTBEAT)
 
     def _depth(self, frame: Frame) -> DepthFrame | None:
-        o = self.depth_options
-        if not o.enabled or frame.depth is None:
-            return None
-        if o.max_fps and frame.capture_time - self._last_depth < 0.95 / o.max_fps:
-            return None
-        self._last_depth = frame.capture_time
-        return o.shape(frame.depth)
+        return self.depth_options.shape(frame.depth) if self._depth_gate.admit(frame) else None
 
     def _publish_depth(self, frame: Frame, d: DepthFrame) -> None:
         import sensor_msgs.msg
