@@ -9,6 +9,8 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 from enum import Enum
+from functools import cached_property
+from typing import Callable
 
 import numpy as np
 
@@ -237,7 +239,13 @@ class Frame:
     hands: tuple[Hand, ...] = ()
     gestures: tuple[Gesture, ...] = ()
     backend: str = ""
-    user_mask: np.ndarray | None = None  # bool (H, W) like depth: the performer's pixels, if known
+    make_user_mask: Callable[[], np.ndarray | None] | None = field(default=None, repr=False, compare=False)
+
+    @cached_property
+    def user_mask(self) -> np.ndarray | None:
+        """bool (H, W) like depth: the performer's pixels, if the backend knows them. Made on first
+        use (off the sensor thread), so a show without a silhouette never pays for it."""
+        return None if self.make_user_mask is None else self.make_user_mask()
 
     @property
     def timestamp(self) -> float:

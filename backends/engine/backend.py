@@ -95,7 +95,7 @@ class EngineBackend(Backend):
         self._seq += 1
         return Frame(self._seq, depth.capture_time, depth, hands,
                      tuple(gestures) if self.detecting_gestures else (), self.name,
-                     user_mask=result.full_mask(depth))
+                     make_user_mask=lambda: result.full_mask(depth))
 
     def _reported_hands(self, hands: tuple[Hand, ...], gestures: list[Gesture]) -> tuple[Hand, ...]:
         """All hands, or (focus mode) only those that made a focus gesture, NEW from that frame on."""

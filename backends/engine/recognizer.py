@@ -265,12 +265,16 @@ class _Hand:
         return (follower.direction == -first.direction and self.swipe_like(follower)
                 and follower.travel >= self.r.swipe_comparable_ratio * first.travel)
 
+    def stroke_confidence(self, stroke: Stroke, min_travel_mm: float, min_peak_speed_mm_s: float,
+                          dominance: float) -> float:
+        """How far the stroke's core clears a gesture's travel, speed and dominance thresholds."""
+        core = self.core(stroke)
+        return _confidence(_margin(core.travel, min_travel_mm), _margin(core.peak_speed, min_peak_speed_mm_s),
+                           _margin(core.dominance, dominance))
+
     def swipe_confidence(self, stroke: Stroke) -> float:
         r = self.r
-        stroke = self.core(stroke)
-        return _confidence(_margin(stroke.travel, r.swipe_min_travel_mm),
-                           _margin(stroke.peak_speed, r.swipe_min_peak_speed_mm_s),
-                           _margin(stroke.dominance, r.swipe_dominance))
+        return self.stroke_confidence(stroke, r.swipe_min_travel_mm, r.swipe_min_peak_speed_mm_s, r.swipe_dominance)
 
     def stroke_ended(self, stroke: Stroke, reversed_: bool) -> None:
         chain = self.tr.chains[stroke.axis]
@@ -348,10 +352,7 @@ class _Hand:
 
     def click_confidence(self, stroke: Stroke) -> float:
         r = self.r
-        stroke = self.core(stroke)
-        return _confidence(_margin(stroke.travel, r.click_min_travel_mm),
-                           _margin(stroke.peak_speed, r.click_min_peak_speed_mm_s),
-                           _margin(stroke.dominance, r.click_dominance))
+        return self.stroke_confidence(stroke, r.click_min_travel_mm, r.click_min_peak_speed_mm_s, r.click_dominance)
 
     def halted(self, stroke: Stroke) -> bool:
         """Did the hand nearly stop at the stroke's end (a push stops or comes back; a hand sweeping

@@ -6,6 +6,7 @@ pixels can be predicted exactly; everything else, the loop, the renderer, Mesa's
 from __future__ import annotations
 
 import functools
+import json
 import time
 from pathlib import Path
 
@@ -52,7 +53,8 @@ def frames_with_hand(positions: list[tuple[float, float, float]], gestures: dict
     for i, p in enumerate(positions):
         depth = DepthFrame(depth_image(), K, frame_id=i, timestamp=i / 30)
         hands = (Hand(1, HandState.NEW if i == 0 else HandState.TRACKING, p, Side.RIGHT),)
-        out.append(Frame(i + 1, depth.capture_time, depth, hands, tuple((gestures or {}).get(i, ())), "scripted", mask))
+        out.append(Frame(i + 1, depth.capture_time, depth, hands, tuple((gestures or {}).get(i, ())), "scripted",
+                         make_user_mask=None if mask is None else (lambda: mask)))
     return out
 
 
@@ -106,3 +108,16 @@ def lit(image: np.ndarray, xy: tuple[float, float], radius: int = 1) -> np.ndarr
     x, y = int(round(xy[0])), int(round(xy[1]))
     patch = image[max(0, y - radius): y + radius + 1, max(0, x - radius): x + radius + 1].reshape(-1, 3)
     return patch[np.argmax(patch.sum(axis=1))]
+
+
+def depth_view_profile(tmp_path: Path, frames: int, name: str = "show.toml", loop: bool = False, **output) -> Path:
+    """A profile file: a generated clip through `truth` into one depth-view layer; `output` keys
+    (mode, hud, size, ...) go into [output]."""
+    from tests.conftest import write_clip
+
+    clip = write_clip(tmp_path / "clip.npz", frames=frames)
+    keys = "\n".join(f"{key} = {json.dumps(value)}" for key, value in output.items())
+    path = tmp_path / name
+    path.write_text(f'backend = "truth"\n[source]\nname = "clip"\npath = "{clip}"\nloop = {json.dumps(loop)}\n'
+                    f'[[effects]]\nname = "depth-view"\n[output]\n{keys}\n')
+    return path

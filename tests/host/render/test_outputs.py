@@ -4,33 +4,16 @@ import cv2
 import pytest
 
 from host.cli import main
-from tests.conftest import write_clip
-from tests.host.render.stage import requires_gl
+from tests.host.render.stage import depth_view_profile, requires_gl
 
-PROFILE = """
-backend = "truth"
-[source]
-name = "clip"
-path = "{clip}"
-[[effects]]
-name = "depth-view"
-[output]
-mode = "headless"
-hud = {hud}
-"""
-
-
-def profile(tmp_path, hud="false"):
-    clip = write_clip(tmp_path / "clip.npz", frames=20)
-    path = tmp_path / "show.toml"
-    path.write_text(PROFILE.format(clip=clip, hud=hud))
-    return path
+def profile(tmp_path, hud=False):
+    return depth_view_profile(tmp_path, frames=20, mode="headless", hud=hud)
 
 
 @requires_gl
 def test_video_and_snapshot_are_written_at_the_asked_size(tmp_path):
     video, png = tmp_path / "show.mp4", tmp_path / "last.png"
-    code = main(["run", str(profile(tmp_path, hud="true")), "--size", "256x144", "--out", str(video),
+    code = main(["run", str(profile(tmp_path, hud=True)), "--size", "256x144", "--out", str(video),
                  "--snapshot", str(png)])
     assert code == 0
     image = cv2.imread(str(png))

@@ -10,29 +10,14 @@ import tomllib
 import cv2
 import pytest
 
-from tests.conftest import write_clip
+from tests.host.render.stage import depth_view_profile
 
 pytestmark = pytest.mark.skipif(shutil.which("xvfb-run") is None,
                                 reason="no virtual X server for a window test (Debian: apt-get install xvfb)")
-
-PROFILE = """
-backend = "truth"
-[source]
-name = "clip"
-path = "{clip}"
-[[effects]]
-name = "depth-view"
-[output]
-mode = "{mode}"
-monitor = {monitor}
-size = [320, 200]
-hud = false
-"""
-
+WINDOW = {"size": [320, 200], "hud": False}
 
 def run_in_window(tmp_path, mode, monitor=0):
-    profile = tmp_path / "window.toml"
-    profile.write_text(PROFILE.format(clip=write_clip(tmp_path / "clip.npz", frames=15), mode=mode, monitor=monitor))
+    profile = depth_view_profile(tmp_path, 15, "window.toml", **WINDOW, mode=mode, monitor=monitor)
     png = tmp_path / "window.png"
     env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
     done = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 800x600x24", sys.executable, "-m", "host.cli", "run",
@@ -62,10 +47,8 @@ def test_a_monitor_that_is_not_there_is_named(tmp_path):
 @pytest.mark.skipif(shutil.which("xdotool") is None, reason="no xdotool to drive the window (apt-get install xdotool)")
 def test_interactive_calibration_drags_a_corner_and_saves_it(tmp_path):
     """`issv calibrate` in a real window: drag the top-left corner with the mouse, press Enter."""
-    profile = tmp_path / "cal.toml"
-    profile.write_text(PROFILE.format(clip=write_clip(tmp_path / "clip.npz", frames=15), mode="window", monitor=0)
-                       .replace('[source]\nname = "clip"', '[source]\nloop = true\nname = "clip"')
-                       + "# keep me\n")
+    profile = depth_view_profile(tmp_path, 15, "cal.toml", loop=True, **WINDOW, mode="window", monitor=0)
+    profile.write_text(profile.read_text() + "# keep me\n")
     script = tmp_path / "drive.sh"
     script.write_text(f"""#!/bin/bash
 {sys.executable} -m host.cli calibrate {profile} &
