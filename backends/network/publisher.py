@@ -116,7 +116,9 @@ class _DepthWorker(threading.Thread):
                 self._slot = None
             depth = self.options.shape(depth)
             self.sent += 1
-            msg = wire.encode_depth(self.session, self.sent, capture, frame_seq, depth, self.options.codec)
+            # Step aside between bands: the threads carrying hands and gestures go first.
+            msg = wire.encode_depth(self.session, self.sent, capture, frame_seq, depth, self.options.codec,
+                                    pause=os.sched_yield)
             self.socket.send(msg, copy=False)
             self.bytes += len(msg)
             self.raw_bytes += depth.data.nbytes

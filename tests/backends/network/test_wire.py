@@ -86,6 +86,42 @@ def test_a_compressed_bomb_is_refused_not_inflated():
     assert error.value.kind == "bad-depth"
 
 
+def _banded_message(payload: bytes, width: int = 64, height: int = 48) -> bytes:
+    codec = wire.CODECS["banded-zstd"].id
+    return (wire.header(wire.DEPTH, 1, 1, 0.0) + wire.DEPTH_BODY.pack(1, 1, 0.0, width, height, codec, 0, 1, 1, 1, 1)
+            + payload)
+
+
+def test_banded_depth_steps_aside_between_bands_and_comes_back_exact():
+    image = np.tile(noisy_depth(), (10, 10))  # 480 x 640: several bands
+    pauses = []
+    blob = wire.CODECS["banded-zstd"].encode(image, lambda: pauses.append(1))
+    assert len(pauses) == int.from_bytes(blob[:2], "little") > 1
+    msg = wire.decode(_banded_message(blob, 640, 480))
+    assert np.array_equal(msg.depth.data, image)
+
+
+@pytest.mark.parametrize("damage", ["no bands", "more bands than rows", "sizes too long", "band swapped"])
+def test_a_lying_band_table_is_refused(damage):
+    image = np.vstack([noisy_depth(seed) for seed in range(40)])  # 1920 x 64: several different bands
+    blob = wire.CODECS["banded-zstd"].encode(image)
+    n = int.from_bytes(blob[:2], "little")
+    sizes = list(np.frombuffer(blob[2:2 + 4 * n], np.uint32))
+    bands = blob[2 + 4 * n:]
+    if damage == "no bands":
+        payload = (0).to_bytes(2, "little")
+    elif damage == "more bands than rows":
+        payload = (2000).to_bytes(2, "little") + blob[2:]
+    elif damage == "sizes too long":
+        payload = blob[:2] + np.array([*sizes[:-1], sizes[-1] + 9], np.uint32).tobytes() + bands
+    else:  # the first two bands' sizes exchanged: each decompresses to the wrong number of rows
+        sizes[0], sizes[1] = sizes[1], sizes[0]
+        payload = blob[:2] + np.array(sizes, np.uint32).tobytes() + bands
+    with pytest.raises(wire.WireError) as error:
+        wire.decode(_banded_message(payload, 64, 1920))
+    assert error.value.kind == "bad-depth"
+
+
 def test_addresses_are_checked_and_depth_uses_the_next_port():
     assert endpoints("tcp://10.0.0.2:6000") == ("tcp://10.0.0.2:6000", "tcp://10.0.0.2:6001")
     with pytest.raises(ValueError, match="tcp://HOST:PORT"):
