@@ -14,20 +14,24 @@
     interval's start and 1 s after its end. Latency: COMPLETE minus the interval's end (negative:
     recognised before the motion ended, as a wave is). Both the recogniser alone on the truth
     hands and body, and the whole backend on the rendered depth.
+(c) unseen performers, approximated: the real trajectories again with the body and its reach
+    scaled about the torso (smaller and taller people), time stretched (faster and slower
+    performers) and tracker jitter added; recall and false fires per variation. The rules are in
+    millimetres and seconds, so this shows the margin they leave, not a tuning target.
 """
 from __future__ import annotations
 
 import glob
 import os
 from collections import defaultdict
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
 from bench.common import parse_args, percentiles, report
 from host import GestureState
-from host.commands.gestures import read_trajectories
+from host.commands.gestures import TrajectoryFrame, read_trajectories
 from host.plugins import default_registry
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "utd-mhad-dev"
@@ -67,6 +71,35 @@ class Tally:
             out[g] = {"precision": p, "recall": r, "f1": f1, "tp": tp, "fp": fp, "fn": fn,
                       "latency_s": percentiles(lat, (50, 90)) if lat else None}
         return out
+
+
+@dataclass(frozen=True)
+class Variation:
+    """How an unseen performer may differ from the dev pair."""
+
+    scale: float = 1.0  # body and reach, about the torso
+    tempo: float = 1.0  # > 1: the same performance, slower
+    jitter_mm: float = 0.0  # per coordinate, on the hands
+
+    def apply(self, frame: TrajectoryFrame, rng: np.random.Generator) -> TrajectoryFrame:
+        torso = np.array(frame.body.get("torso", (0.0, 0.0, 0.0)))
+
+        def move(p, jitter: float = 0.0) -> tuple[float, float, float]:
+            q = torso + self.scale * (np.asarray(p) - torso)
+            if jitter:
+                q = q + rng.normal(0.0, jitter, 3)
+            return (float(q[0]), float(q[1]), float(q[2]))
+
+        return TrajectoryFrame(frame.t * self.tempo,
+                               [replace(h, position=move(h.position, self.jitter_mm)) for h in frame.hands],
+                               {name: move(p) for name, p in frame.body.items()})
+
+
+VARIATIONS = {
+    "0.8x size": Variation(scale=0.8), "1.25x size": Variation(scale=1.25),
+    "faster (0.7x time)": Variation(tempo=0.7), "slower (1.4x time)": Variation(tempo=1.4),
+    "jitter 15 mm": Variation(jitter_mm=15.0),
+}
 
 
 def recognizer(backend: str):
@@ -109,14 +142,16 @@ def clip_tally(completed: dict[str, set[str]], labels: dict[str, str]) -> tuple[
     return tally, (fires / negatives if negatives else float("nan")), dict(elsewhere)
 
 
-def real_trajectories(backend: str) -> dict:
+def real_trajectories(backend: str, variation: Variation = Variation()) -> dict:
     files = sorted(glob.glob(str(DATA / "trajectories" / "*.csv")))
     completed, labels, tally_latency = {}, {}, defaultdict(list)
+    rng = np.random.default_rng(0)
     for path in files:
         label = labels[path] = label_of(path)
         rec, names, times, hands = recognizer(backend), set(), [], defaultdict(list)
         first_complete: dict[str, float] = {}
         for frame in read_trajectories(Path(path)):
+            frame = variation.apply(frame, rng)
             for g in rec.update(frame.t, frame.hands, frame.body, True):
                 if g.state is GestureState.COMPLETE:
                     names.add(g.name)
@@ -248,6 +283,7 @@ def main() -> None:
     if not args.quick:
         figures["real_clips"] = real_clips(args.backend, args.clips)
     figures["synthetic"] = synthetic(args.backend, PERFORMERS, with_tracker=not args.quick)
+    figures["varied_trajectories"] = {name: real_trajectories(args.backend, v) for name, v in VARIATIONS.items()}
     rows = rows_of("real csv", figures["real_trajectories"]["gestures"])
     rows.append(["real csv", "false fires", _fmt(figures["real_trajectories"]["false_fire_rate"]),
                  "", "", "", ""])
@@ -261,6 +297,11 @@ def main() -> None:
             tp, fp, fn = (sum(f[k] for f in gestures.values()) for k in ("tp", "fp", "fn"))
             rows.append([SECTION[kind], performer, "", _fmt(tp / (tp + fn) if tp + fn else None), "",
                          f"{tp}/{fp}/{fn}", ""])
+    for name, fig in figures["varied_trajectories"].items():
+        tp, fp, fn = (sum(f[k] for f in fig["gestures"].values()) for k in ("tp", "fp", "fn"))
+        recalls = " ".join(f"{g} {_fmt(f['recall'])}" for g, f in fig["gestures"].items() if f["recall"] is not None)
+        rows.append(["csv " + name, f"false fires {_fmt(fig['false_fire_rate'])}", "",
+                     _fmt(tp / (tp + fn) if tp + fn else None), recalls, f"{tp}/{fp}/{fn}", ""])
     report(f"gestures, backend {args.backend} (latency: COMPLETE - end of motion, s)", figures, rows,
            ["data", "gesture", "precision", "recall", "F1", "tp/fp/fn", "latency p50/p90"], args.json)
 
