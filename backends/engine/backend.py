@@ -16,6 +16,7 @@ from pydantic import Field
 from backends.engine.geometry import KINECT_V1, to_geometry
 from backends.engine.recognizer import NITE_DICTIONARY, NUITRACK_DICTIONARY, GestureRecognizer
 from backends.engine.rules import GestureRules
+from backends.engine.sides import RestingHands
 from backends.engine.tracker import HandTracker, TrackerOptions, TrackResult
 from host import Backend, DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState
 
@@ -64,6 +65,8 @@ class EngineBackend(Backend):
     geometry: ClassVar[tuple | None] = None
     #: what the backend says about itself when it starts (None: nothing to say).
     note: ClassVar[str | None] = None
+    #: a left and a right hand whenever a user is in view, resting ones where they hang (Nuitrack's way).
+    both_hands: ClassVar[bool] = False
 
     @classmethod
     def recognizer(cls, options: EngineOptions | None = None) -> GestureRecognizer:
@@ -83,6 +86,9 @@ class EngineBackend(Backend):
         self._seq = 0
         self._focused: set[int] = set()
         self._shown: set[int] = set()
+        rules, o = self.options.gestures, self.options
+        self._sides = (RestingHands(rules.rest_below_torso_mm, rules.rest_in_front_of_torso_mm,
+                                    o.hands.shoulder_half_width_mm, o.lost_timeout_s) if self.both_hands else None)
 
     def update(self) -> Frame | None:
         depth = self.source.read()
@@ -92,6 +98,9 @@ class EngineBackend(Backend):
             depth = to_geometry(depth, *self.geometry)
         result, gestures = self.engine.step(depth)
         hands = self._reported_hands(result.hands, gestures) if self.tracking_hands else ()
+        if self._sides is not None:
+            hands = self._sides.present(depth.timestamp, hands, result.body, depth.mirrored) if self.tracking_hands else ()
+            gestures = [self._sides.gesture(g) for g in gestures]
         self._seq += 1
         return Frame(self._seq, depth.capture_time, depth, hands,
                      tuple(gestures) if self.detecting_gestures else (), self.name,
@@ -164,4 +173,6 @@ class OpenISSNuitrackBackend(EngineBackend):
 
     name = "openiss-nuitrack"
     dictionary = NUITRACK_DICTIONARY
-    note = "Nuitrack runtime not used: running the open engine in Nuitrack mode (six gestures, left and right hands)"
+    both_hands = True
+    note = ("Nuitrack runtime not used: running the open engine in Nuitrack mode (six gestures; a left and a "
+            "right hand while a user is in view, resting ones with confidence 0)")

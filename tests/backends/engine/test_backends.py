@@ -5,13 +5,14 @@ import json
 import subprocess
 import sys
 
+import numpy as np
 import pydantic
 import pytest
 
 from backends.engine.backend import (OpenISSBackend, OpenISSNiteBackend, OpenISSNuitrackBackend,
                                      SimpleOpenNIBackend)
 from backends.engine.recognizer import NITE_DICTIONARY, NUITRACK_DICTIONARY
-from host import GestureState, GestureType, HandState, Intrinsics, Source
+from host import DepthFrame, GestureState, GestureType, HandState, Intrinsics, Source
 from host.plugins import default_registry
 from tests.backends.engine.performer import WAVE_THEN_REST, frames, write_clip
 from tests.conftest import REAL_CLIPS
@@ -119,6 +120,30 @@ def test_nuitrack_mode_names_and_sides(wave):
     first_gesture = next(i for i, f in enumerate(out) if f.gestures)
     assert any(f.hands for f in out[:first_gesture]), "no focus gesture needed before hands"
     assert all(h.side.value in ("left", "right") for f in out for h in f.hands)
+
+
+def test_nuitrack_mode_reports_both_hands_while_the_user_is_in_view(wave):
+    """Nuitrack's hands: ids 1 (left) and 2 (right), resting ones where they hang, LOST once after the user left."""
+    step = wave[1].timestamp - wave[0].timestamp
+    empty = [DepthFrame(np.zeros_like(wave[-1].data), wave[-1].intrinsics, frame_id=len(wave) + i,
+                        timestamp=wave[-1].timestamp + (i + 1) * step, mirrored=wave[-1].mirrored)
+             for i in range(int(1.0 / step))]  # the performer walks out: a second of empty depth
+    out = play(OpenISSNuitrackBackend, wave + empty)
+    in_view, gone = out[:len(wave)], out[len(wave):]
+    assert all({(h.id, h.side.value, h.user_id) for h in f.hands} == {(1, "left", 1), (2, "right", 1)}
+               for f in in_view)
+    assert {h.state for h in in_view[0].hands} == {HandState.NEW}
+    assert all(h.state is not HandState.NEW for f in in_view[1:] for h in f.hands)
+    resting = [(h, d.truth.hands[h.side]) for f, d in zip(in_view, wave) for h in f.hands if h.confidence == 0]
+    seen = [(h, d.truth.hands[h.side]) for f, d in zip(in_view, wave) for h in f.hands if h.confidence > 0]
+    assert resting and seen, "both resting guesses and seen hands"
+    error = [float(np.linalg.norm(np.subtract(h.position, truth))) for h, truth in resting]
+    assert np.median(error) < 120, "a resting hand is reported beside the hip, where it hangs"
+    assert {h.side.value for h, _ in seen} == {"right"}, "only the waving hand is seen"
+    waves = [g for g in completed(out) if g.name == "wave"]
+    assert waves and all(g.hand_id == 2 for g in waves), "gestures name the side's id"
+    lost = [h for f in gone for h in f.hands]
+    assert sorted((h.id, h.state) for h in lost) == [(1, HandState.LOST), (2, HandState.LOST)]
 
 
 def test_recognizer_classmethod_uses_the_mode_and_the_gesture_overrides():
