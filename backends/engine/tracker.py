@@ -43,6 +43,10 @@ class TrackerOptions(BaseModel):
         "(two frames at 30 fps): a dropout does not make it flicker lost/new"))
     match_max_gap_s: float = Field(0.1, gt=0, description="the gate stops growing after this long unseen: "
                                    "a hand that reappears far away is a new hand")
+    other_arm_mm: float = Field(100, ge=0, description=(
+        "a hand out of sight for longer than `hold_s` is not found again in a candidate whose arm joins the "
+        "body farther than this on the other side of the spine: that is the other arm's hand (followed "
+        "frame to frame, a hand may cross the body)"))
     predict_s: float = Field(0.0, ge=0, le=0.2, description=(
         "report hands this far ahead along their velocity: compensates a show's output latency "
         "(projector, renderer) so effects land on the hands; 0 reports where the hand was seen"))
@@ -118,7 +122,7 @@ class HandTracker:
     def _update_tracks(self, t: float, found: list[Candidate], torso: np.ndarray | None,
                        mirrored: bool) -> tuple[Hand, ...]:
         o = self.options
-        matched = self._match(t, found)
+        matched = self._match(t, found, torso, mirrored)
         out: list[Hand] = []
         for track, cand in matched.items():
             track.seen, track.at_border, track.confidence = t, cand.at_border, cand.confidence
@@ -165,8 +169,10 @@ class HandTracker:
         self._tracks.remove(track)
         return [self._hand(track, HandState.LOST, 0.0)] if track.reported else []
 
-    def _match(self, t: float, found: list[Candidate]) -> dict[_Track, Candidate]:
-        """The assignment of candidates to live tracks with the smallest total distance, within gates."""
+    def _match(self, t: float, found: list[Candidate], torso: np.ndarray | None,
+               mirrored: bool) -> dict[_Track, Candidate]:
+        """The assignment of candidates to live tracks with the smallest total distance, within gates
+        and never across arms."""
         tracks = self._tracks
         if not tracks or not found:
             return {}
@@ -181,7 +187,7 @@ class HandTracker:
                 tr, c = (small[i], large[j]) if small is tracks else (large[j], small[i])
                 d = float(np.linalg.norm(tr.position - c.position))
                 gate = o.match_slack_mm + o.max_speed_mm_s * min(t - tr.seen, o.match_max_gap_s)
-                if d <= gate:
+                if d <= gate and not self._other_arm(t, tr, c, torso, mirrored):
                     pairs[tr] = c
                     cost += d
                 else:
@@ -197,6 +203,13 @@ class HandTracker:
         track.confirmed = self.options.confirm_s <= 0 or cand.confidence >= self.options.strong_confidence
         self._next_id += 1
         return track
+
+    def _other_arm(self, t: float, track: _Track, cand: Candidate, torso: np.ndarray | None, mirrored: bool) -> bool:
+        o = self.options
+        if (torso is None or track.side is Side.UNKNOWN or t - track.seen <= o.hold_s
+                or abs(cand.root[0] - torso[0]) <= o.other_arm_mm):
+            return False
+        return self._side_of(cand, torso, mirrored) is not track.side
 
     @staticmethod
     def _side_of(cand: Candidate, torso: np.ndarray | None, mirrored: bool) -> Side:

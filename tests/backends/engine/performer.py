@@ -12,9 +12,9 @@ WAVE_THEN_REST = [{"action": "idle", "duration": 0.5}, {"action": "wave"}, {"act
 SWIPE = [{"action": "idle", "duration": 0.4}, {"action": "swipe_left"}, {"action": "idle", "duration": 0.5}]
 
 
-def frames(steps: list[dict], **options) -> list[DepthFrame]:
+def frames(steps: list[dict], seed: int = 3, **options) -> list[DepthFrame]:
     """Every frame of a seeded synthetic performance (640x480 with floor and back wall unless told)."""
-    source = SyntheticSource(SyntheticOptions(choreography=steps, seed=3, **options))
+    source = SyntheticSource(SyntheticOptions(choreography=steps, seed=seed, **options))
     source.open()
     out = []
     while (frame := source.read()) is not None:

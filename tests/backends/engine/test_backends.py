@@ -146,6 +146,22 @@ def test_nuitrack_mode_reports_both_hands_while_the_user_is_in_view(wave):
     assert sorted((h.id, h.state) for h in lost) == [(1, HandState.LOST), (2, HandState.LOST)]
 
 
+CARRY = [{"action": "idle", "duration": 1.0}, {"action": "walk", "x_mm": 795.0}, {"action": "click", "hand": "right"},
+         {"action": "walk", "x_mm": -805.0}, {"action": "click", "hand": "right"}, {"action": "idle", "duration": 0.5}]
+
+
+@pytest.mark.parametrize("other_arm_mm, swipes", [(100.0, False), (1e9, True)])
+def test_a_hand_out_of_sight_is_not_found_again_on_the_other_arm(other_arm_mm, swipes):
+    """DigiEVISS' carry: walking sideways with the arms low, then a click. The left hand, last seen
+    swinging, must not be found again in the right hand rising for the click (the track jumping
+    arms looked like a swipe). With the rule off (1e9 mm) the jump and its swipe come back."""
+    walk = frames(CARRY, seed=7)
+    out = play(OpenISSBackend, walk, OpenISSBackend.Options(other_arm_mm=other_arm_mm))
+    names = [g.name for g in completed(out)]
+    assert "click" in names
+    assert any(n.startswith("swipe") for n in names) is swipes, names
+
+
 def test_recognizer_classmethod_uses_the_mode_and_the_gesture_overrides():
     assert OpenISSNiteBackend.recognizer().dictionary == NITE_DICTIONARY
     assert OpenISSNuitrackBackend.recognizer().dictionary == NUITRACK_DICTIONARY
