@@ -26,8 +26,8 @@ class RestingHands:
     in_front_mm: float  # and this far in front of it
     beside_mm: float  # and this far out from the spine
     lost_timeout_s: float
-    _last: dict[Side, Hand] = field(default_factory=dict)  # what was reported last, per side
-    _user_seen: float | None = None
+    _last: dict[Side, Hand] = field(default_factory=dict, init=False)  # what was reported last, per side
+    _user_seen: float | None = field(default=None, init=False)
 
     def present(self, t: float, hands: tuple[Hand, ...], body: dict[str, Vec3], mirrored: bool) -> tuple[Hand, ...]:
         torso = body.get("torso")
