@@ -391,7 +391,8 @@ def main(argv: list[str] | None = None) -> int:
     s.add_argument("--timeout", type=float, default=60.0)
     s.add_argument("--dump", metavar="FILE.npz", help="save the depth images received (frame_ids, depth)")
     parser.add_argument("--json", action="store_true", help="print one JSON object of the figures")
-    parser.add_argument("--seconds", type=float, default=10.0, help="length of each case (default 10)")
+    parser.add_argument("--seconds", type=float, default=20.0,
+                        help="length of each case (default 20: 600 frames, so a p99 rests on 6 samples)")
     parser.add_argument("--only", choices=("zmq", "ros"), help="one transport only")
     args = parser.parse_args(argv)
     if args.role == "publish":
