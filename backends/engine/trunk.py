@@ -23,6 +23,9 @@ _HOLE = np.ones((3, 3), np.uint8)
 class BodyOptions(BaseModel):
     model_config = ConfigDict(extra="forbid")
     core_width_mm: float = Field(220, gt=0, description="opening size: wider than an arm, narrower than a chest")
+    outline_width_mm: float = Field(180, gt=0, description=(
+        "opening size for the shoulder line: wider than an arm (80-120 mm), narrower than a chest seen "
+        "side-on (220-280 mm), so a performer walking sideways keeps their shoulders"))
     plane_band_mm: float = Field(250, gt=0, description="points nearer than this in front of the torso are not trunk")
     shoulder_below_core_top_mm: float = Field(100, description="shoulder joints below the top of the trunk")
     spine_below_shoulder_mm: float = Field(240, description="spine joint below the shoulder line")
@@ -75,7 +78,8 @@ class BodyEstimator:
         core = self._open(plane, kernel)
         if core.sum() < 4:
             core = plane if plane.any() else mask
-        outline = self._open(mask, kernel)
+        k_outline = max(3, int(round(o.outline_width_mm / (g.cell_x * ref))))
+        outline = self._open(mask, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k_outline, k_outline)))
         if outline.sum() < 4:
             outline = core
         centre_x = float(np.median(g.x[core]))

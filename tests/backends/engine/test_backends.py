@@ -12,6 +12,8 @@ import pytest
 from backends.engine.backend import (OpenISSBackend, OpenISSNiteBackend, OpenISSNuitrackBackend,
                                      SimpleOpenNIBackend)
 from backends.engine.recognizer import NITE_DICTIONARY, NUITRACK_DICTIONARY
+from backends.engine.tracker import HandTracker, TrackerOptions
+from backends.engine.trunk import BodyOptions
 from host import DepthFrame, GestureState, GestureType, HandState, Intrinsics, Source
 from host.plugins import default_registry
 from tests.backends.engine.performer import WAVE_THEN_REST, frames, write_clip
@@ -160,6 +162,26 @@ def test_a_hand_out_of_sight_is_not_found_again_on_the_other_arm(other_arm_mm, s
     names = [g.name for g in completed(out)]
     assert "click" in names
     assert any(n.startswith("swipe") for n in names) is swipes, names
+
+
+def head_as_hand(depth_frames, options: TrackerOptions) -> int:
+    """Frames' worth of reported hands at the head (within 200 mm) and near no hand (250 mm)."""
+    tracker, count = HandTracker(options), 0
+    for f in depth_frames:
+        for h in tracker.process(f).hands:
+            near_head = np.linalg.norm(np.subtract(h.position, f.truth.body["head"])) < 200
+            near_hand = min(np.linalg.norm(np.subtract(h.position, p)) for p in f.truth.hands.values()) < 250
+            count += h.state is not HandState.LOST and near_head and not near_hand
+    return count
+
+
+def test_walking_sideways_keeps_the_shoulders_and_the_head_is_no_hand():
+    """Side-on, the chest is 220-280 mm deep: an opening as wide as that lost the shoulders, the
+    shoulder line dropped and the head became a hand. The default 180 mm outline keeps them."""
+    walk = frames(CARRY, seed=7)
+    assert head_as_hand(walk, TrackerOptions()) <= 0.05 * len(walk)
+    old = TrackerOptions(body=BodyOptions(outline_width_mm=220))
+    assert head_as_hand(walk, old) > 0.1 * len(walk), "the scenario no longer shows the side-on head phantom"
 
 
 def test_recognizer_classmethod_uses_the_mode_and_the_gesture_overrides():
