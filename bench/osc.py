@@ -52,19 +52,24 @@ class TimedOsc(OscEffect):
         self.sent[frame.seq] = (frame.capture_time, time.time())
 
 
-class Echoes:
-    """Receives Pure Data's echoes; notes when each /echo/frame arrived."""
+class UdpInbox:
+    """A UDP socket on an ephemeral loopback port; a thread hands every datagram to `handle`
+    with time.time() at its arrival. Shared with the OSC tests' receiver."""
 
     def __init__(self) -> None:
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         self.sock.bind(("127.0.0.1", 0))
-        self.sock.settimeout(0.1)
-        self.frames: dict[int, float] = {}
-        self.gestures = 0
-        self.ready = threading.Event()
+        self.sock.settimeout(0.05)
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, daemon=True)
         self._thread.start()
+
+    @property
+    def port(self) -> int:
+        return self.sock.getsockname()[1]
+
+    def handle(self, data: bytes, at: float) -> None:
+        raise NotImplementedError
 
     def _run(self) -> None:
         while not self._stop.is_set():
@@ -72,19 +77,33 @@ class Echoes:
                 data = self.sock.recv(65536)
             except (TimeoutError, socket.timeout):
                 continue
-            at = time.time()
-            message = OscMessage(data)
-            if message.address == "/echo/frame":
-                self.frames[int(message.params[0])] = at
-            elif message.address == "/echo/gesture":
-                self.gestures += 1
-            elif message.address == "/echo/ready":
-                self.ready.set()
+            except OSError:
+                return
+            self.handle(data, time.time())
 
     def close(self) -> None:
         self._stop.set()
         self._thread.join(1)
         self.sock.close()
+
+
+class Echoes(UdpInbox):
+    """Receives Pure Data's echoes; notes when each /echo/frame arrived."""
+
+    def __init__(self) -> None:
+        self.frames: dict[int, float] = {}
+        self.gestures = 0
+        self.ready = threading.Event()
+        super().__init__()  # last: the receiving thread starts here
+
+    def handle(self, data: bytes, at: float) -> None:
+        message = OscMessage(data)
+        if message.address == "/echo/frame":
+            self.frames[int(message.params[0])] = at
+        elif message.address == "/echo/gesture":
+            self.gestures += 1
+        elif message.address == "/echo/ready":
+            self.ready.set()
 
 
 def time_updates(backend) -> dict[int, float]:
@@ -103,17 +122,23 @@ def time_updates(backend) -> dict[int, float]:
 
 
 def free_port() -> int:
+    """An ephemeral UDP port nobody holds right now (tests run in parallel)."""
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
 
 
+def pd_command(listen_port: int, echo_port: int, patch: Path = PATCH) -> list[str]:
+    """Headless Pure Data running the receiver patch: OSC in on `listen_port`, echoes out to
+    127.0.0.1:`echo_port`."""
+    return ["pd", "-nogui", "-noaudio", "-stderr", "-sleepgrain", "0.1", "-open", str(patch),
+            "-send", f"issv-listen {listen_port}", "-send", f"issv-echo 127.0.0.1 {echo_port}"]
+
+
 def start_pd(echo_port: int, listen_port: int) -> subprocess.Popen:
     if shutil.which("pd") is None:
         raise SystemExit("bench.osc: Pure Data is not installed (apt-get install puredata-core)")
-    return subprocess.Popen(["pd", "-nogui", "-noaudio", "-stderr", "-sleepgrain", "0.1", "-open", str(PATCH),
-                             "-send", f"issv-listen {listen_port}", "-send", f"issv-echo 127.0.0.1 {echo_port}"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return subprocess.Popen(pd_command(listen_port, echo_port), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
 
 def load_profile(backend: str | None):
@@ -127,7 +152,7 @@ def run(seconds: float, fps: float | None, backend: str | None) -> dict:
     osc = next(r for r in profile.effects if r.ref.name == "osc")
     echoes = Echoes()
     port = free_port()
-    pd = start_pd(echoes.sock.getsockname()[1], port)
+    pd = start_pd(echoes.port, port)
     try:
         if not echoes.ready.wait(10):
             raise SystemExit("bench.osc: Pure Data did not start the patch")

@@ -54,7 +54,7 @@ TUTORIAL_SHOTS = {  # image -> (profile, source seconds to play before the snaps
 
 
 # -- the reference ------------------------------------------------------------------------------
-def type_of(schema: dict, defs: dict) -> str:
+def type_of(schema: dict) -> str:
     if "$ref" in schema:
         return f"table ({schema['$ref'].split('/')[-1]})"
     if "enum" in schema:
@@ -63,15 +63,15 @@ def type_of(schema: dict, defs: dict) -> str:
         return json.dumps(schema["const"])
     if "anyOf" in schema:
         kinds = [s for s in schema["anyOf"] if s.get("type") != "null"]
-        text = " or ".join(type_of(s, defs) for s in kinds)
+        text = " or ".join(type_of(s) for s in kinds)
         return text + (" (optional)" if len(kinds) < len(schema["anyOf"]) else "")
     kind = schema.get("type", "any")
     if kind == "array":
         if "prefixItems" in schema:
-            return "[" + ", ".join(type_of(s, defs) for s in schema["prefixItems"]) + "]"
-        return f"list of {type_of(schema.get('items', {}), defs)}"
+            return "[" + ", ".join(type_of(s) for s in schema["prefixItems"]) + "]"
+        return f"list of {type_of(schema.get('items', {}))}"
     if kind == "object" and "additionalProperties" in schema:
-        return f"table of {type_of(schema['additionalProperties'], defs)}"
+        return f"table of {type_of(schema['additionalProperties'])}"
     return {"number": "number", "integer": "integer", "string": "string", "boolean": "true/false",
             "object": "table"}.get(kind, kind)
 
@@ -81,10 +81,9 @@ BOUNDS = (("minimum", ">="), ("exclusiveMinimum", ">"), ("maximum", "<="), ("exc
 
 
 def limits(schema: dict) -> str:
-    found = [f"{sign} {schema[key]:g}" for key, sign in BOUNDS if isinstance(schema.get(key), (int, float))]
-    for option in schema.get("anyOf", []):
-        found += [f"{sign} {option[key]:g}" for key, sign in BOUNDS if isinstance(option.get(key), (int, float))]
-    return ", ".join(found)
+    """The bounds of a key and of each of its alternatives (anyOf)."""
+    return ", ".join(f"{sign} {part[key]:g}" for part in (schema, *schema.get("anyOf", []))
+                     for key, sign in BOUNDS if isinstance(part.get(key), (int, float)))
 
 
 def cell(text: str) -> str:
@@ -105,7 +104,7 @@ def table(schema: dict, core: bool = False, nested: bool = True) -> list[str]:
             else "its own defaults" if isinstance(prop["default"], dict) else f"`{json.dumps(prop['default'])}`")
         what = prop.get("description") or (CORE.get(key, "") if core else "")
         bounds = limits(prop)
-        lines.append(f"| `{key}` | {cell(type_of(prop, defs))} | {cell(default)} | "
+        lines.append(f"| `{key}` | {cell(type_of(prop))} | {cell(default)} | "
                      f"{cell(what + (f' ({bounds})' if bounds else ''))} |")
     for name, sub in defs.items() if nested else ():
         lines += ["", f"`{name}`:", ""] + table(sub)

@@ -37,16 +37,26 @@ void main() {
 """
 
 
-class DepthQuad:
+class UnitQuad:
+    """A program drawn as one triangle strip over the unit square (its `in_uv`, 0..1, v down)."""
+
+    def __init__(self, ctx: moderngl.Context, vertex_shader: str, fragment_shader: str) -> None:
+        self.prog = ctx.program(vertex_shader=vertex_shader, fragment_shader=fragment_shader)
+        strip = np.array([(0, 0), (1, 0), (0, 1), (1, 1)], "f4")
+        self.vbo = ctx.buffer(strip.tobytes())
+        self.vao = ctx.vertex_array(self.prog, [(self.vbo, "2f", "in_uv")])
+
+    def release(self) -> None:
+        for obj in (self.vao, self.vbo, self.prog):
+            obj.release()
+
+
+class DepthQuad(UnitQuad):
     """Draws a fragment shader over the depth image's footprint on the stage: stretched over the
     output, or through the camera-to-stage calibration so pixels land on the performer."""
 
     def __init__(self, ctx: moderngl.Context, fragment_shader: str) -> None:
-        self.ctx = ctx
-        self.prog = ctx.program(vertex_shader=DEPTH_VERTEX, fragment_shader=fragment_shader)
-        strip = np.array([(0, 0), (1, 0), (0, 1), (1, 1)], "f4")
-        self.vbo = ctx.buffer(strip.tobytes())
-        self.vao = ctx.vertex_array(self.prog, [(self.vbo, "2f", "in_uv")])
+        super().__init__(ctx, DEPTH_VERTEX, fragment_shader)
 
     def draw(self, target, stage: Stage, depth: DepthFrame, textures: dict[str, moderngl.Texture]) -> None:
         scale = np.diag([depth.width, depth.height, 1.0])
@@ -60,10 +70,6 @@ class DepthQuad:
             if self.prog.get(name, None) is not None:  # the driver drops unused samplers
                 self.prog[name] = unit
         self.vao.render(moderngl.TRIANGLE_STRIP)
-
-    def release(self) -> None:
-        for obj in (self.vao, self.vbo, self.prog):
-            obj.release()
 
 
 SPRITE_VERTEX = """
@@ -188,24 +194,19 @@ void main() {{
 """
 
 
-class StageQuad:
+class StageQuad(UnitQuad):
     """A fragment shader over the whole stage, through the target's `to_clip` (so keystoned):
     its `uv` input (or `uv_name`) runs 0..1 with t = 1 at the stage's top."""
 
     def __init__(self, ctx: moderngl.Context, fragment_shader: str, uv_name: str = "uv") -> None:
-        self.prog = ctx.program(vertex_shader=STAGE_VERTEX.format(uv=uv_name), fragment_shader=fragment_shader)
-        strip = np.array([(0, 0), (1, 0), (0, 1), (1, 1)], "f4")
-        self.vbo = ctx.buffer(strip.tobytes())
-        self.vao = ctx.vertex_array(self.prog, [(self.vbo, "2f", "in_uv")])
+        super().__init__(ctx, STAGE_VERTEX.format(uv=uv_name), fragment_shader)
 
     def draw(self, target) -> None:
         self.prog["issv_to_clip"].write(mat3_bytes(target.to_clip))
         self.prog["issv_size"].value = tuple(float(v) for v in target.size)
         self.vao.render(moderngl.TRIANGLE_STRIP)
 
-    def release(self) -> None:
-        for obj in (self.vao, self.vbo, self.prog):
-            obj.release()
+
 COPY_FRAGMENT = """
 #version 330
 uniform sampler2D image;

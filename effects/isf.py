@@ -182,10 +182,9 @@ class Isf(Effect):
             self._set(name, value)
 
     def _set(self, name: str, value: Any) -> None:
-        uniform = self.prog.get(name, None)
-        if uniform is None or self.shader.inputs.get(name) == "image":
+        uniform, kind = self.prog.get(name, None), self.shader.inputs.get(name)
+        if uniform is None or kind == "image":
             return  # unused by the shader (the compiler dropped it), or an image bound at render
-        kind = self.shader.inputs.get(name)
         if kind in ("bool", "event"):
             value = bool(value)
         elif kind == "long":

@@ -1,7 +1,7 @@
 """Turns a validated profile into live objects: source -> backend -> effect stack."""
 from __future__ import annotations
 
-from host.contracts import Backend, Source
+from host.contracts import Backend, Source, Stage
 from host.loop import EffectSlot, PacedSource
 from host.profile import Profile
 
@@ -16,3 +16,9 @@ def make_backend(profile: Profile, realtime: bool = True) -> Backend:
 
 def make_effects(profile: Profile) -> list[EffectSlot]:
     return [EffectSlot(r.cls(r.options), r.where, r.ref.blend, r.ref.opacity) for r in profile.effects]
+
+
+def make_stage(profile: Profile, backend: Backend) -> Stage:
+    """The stage of the profile's [output] (as the command line left it) for `backend`."""
+    output = profile.model.output
+    return Stage(size=tuple(output.size), fps=output.fps, backend=backend.name)

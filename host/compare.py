@@ -18,7 +18,7 @@ from host.contracts import Backend, Stage
 from host.errors import UserError
 from host.loop import Limits, PacedSource, Show
 from host.model import CANONICAL_GESTURES, Frame, Gesture, GestureState
-from host.plugins import Registry, default_registry
+from host.plugins import Registered, Registry, default_registry
 from host.tap import SensorTap
 
 AGREEMENT_WINDOW_S = 0.5  # two backends agree on a gesture: same name, spans this close in time
@@ -98,11 +98,17 @@ def agreement(a: list[Gesture], b: list[Gesture], window: float = AGREEMENT_WIND
     return matches, 2 * matches / (len(mine) + len(theirs))
 
 
-def make(registry: Registry, name: str, recording: Path) -> Backend:
-    """The named backend with its default options, reading the recording's depth unpaced."""
+def backend_entry(registry: Registry, name: str) -> Registered:
+    """The registered backend named in --backends, or a UserError listing the installed ones."""
     entry = registry.get("backends", name)
     if entry is None:
         raise UserError(f"--backends: unknown backend {name!r}; installed: {', '.join(registry.names('backends'))}")
+    return entry
+
+
+def make(registry: Registry, name: str, recording: Path) -> Backend:
+    """The named backend with its default options, reading the recording's depth unpaced."""
+    entry = backend_entry(registry, name)
     reason = entry.availability()
     if reason is not None:
         raise UserError(f"backend {name!r} is not available here: {reason}")

@@ -94,7 +94,7 @@ def _heatmap(matrix: np.ndarray, rows: list[str], cols: list[str], title: str, p
     high = np.nanmax(matrix) if np.isfinite(matrix).any() else 0.0
     for (i, j), v in np.ndenumerate(matrix):
         dark = not np.isnan(v) and v < 0.6 * high  # white text on the dark end of viridis, black elsewhere
-        ax.text(j, i, "-" if np.isnan(v) else format(v, fmt), ha="center", va="center",
+        ax.text(j, i, _cell(v, fmt), ha="center", va="center",
                 color="w" if dark else "k", fontsize=8)
     ax.set_xticks(range(len(cols)), cols, rotation=30, ha="right")
     ax.set_yticks(range(len(rows)), rows)
@@ -106,7 +106,7 @@ def _heatmap(matrix: np.ndarray, rows: list[str], cols: list[str], title: str, p
 
 def coverage_matrix(runs: list[Run]) -> np.ndarray:
     """Completed gestures per backend and canonical name; NaN where the backend's dictionary lacks it."""
-    m = np.array([[r.counts()[n] for n in CANONICAL_GESTURES] for r in runs], dtype=float)
+    m = np.array([[counts[n] for n in CANONICAL_GESTURES] for counts in map(Run.counts, runs)], dtype=float)
     for i, r in enumerate(runs):
         if r.dictionary is not None:
             for j, n in enumerate(CANONICAL_GESTURES):

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import zipfile
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -12,6 +13,14 @@ from host.errors import UserError
 from host.options import ProfilePath
 
 BODY_JOINTS = ("head", "torso", "left_shoulder", "right_shoulder")  # the clip's spine joint is the torso
+
+
+def frame_rate(timestamps: np.ndarray) -> float:
+    """Frames per second from the median step between timestamps (30 when they do not say)."""
+    if len(timestamps) < 2:
+        return 30.0
+    step = float(np.median(np.diff(timestamps)))
+    return 1.0 / step if step > 0 else 30.0
 
 
 class ClipOptions(BaseModel):
@@ -51,12 +60,9 @@ class Clip:
     def __len__(self) -> int:
         return len(self.depth)
 
-    @property
+    @cached_property
     def fps(self) -> float:
-        if len(self.timestamps) < 2:
-            return 30.0
-        step = float(np.median(np.diff(self.timestamps)))
-        return 1.0 / step if step > 0 else 30.0
+        return frame_rate(self.timestamps)
 
     def truth(self, i: int) -> Truth | None:
         if self.hands is None and self.body is None:
@@ -86,25 +92,23 @@ class ClipSource(Source):
     def __init__(self, options: ClipOptions) -> None:
         super().__init__(options)
         self.clip: Clip | None = None
-        self._i = 0
         self._played = 0
 
     def open(self) -> None:
         self.clip = Clip(self.options.path)
         self.fps = self.clip.fps
         self.intrinsics = self.clip.intrinsics
-        self._i = self._played = 0
+        self._played = 0
 
     def read(self) -> DepthFrame | None:
         assert self.clip is not None, "open() the source first"
-        if self._i >= len(self.clip):
-            if not self.options.loop or len(self.clip) == 0:
-                return None
-            self._i = 0
+        if len(self.clip) == 0:
+            return None
+        passes, i = divmod(self._played, len(self.clip))
+        if passes and not self.options.loop:
+            return None
         # Looping keeps time running forwards: each pass starts one frame after the last one.
-        passes = self._played // len(self.clip)
         span = float(self.clip.timestamps[-1] - self.clip.timestamps[0]) + 1.0 / self.clip.fps
-        frame = self.clip.frame(self._i, self._played, offset=passes * span)
-        self._i += 1
+        frame = self.clip.frame(i, self._played, offset=passes * span)
         self._played += 1
         return frame

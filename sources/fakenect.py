@@ -26,6 +26,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from host import DepthFrame, Intrinsics, Source
 from host.errors import UserError
 from host.options import ProfilePath
+from sources.clip import frame_rate
 
 KINECT_V1_FOV_DEG = (57.0, 43.0)
 NO_READING = 2047
@@ -114,8 +115,7 @@ class FakenectSource(Source):
         h, w = read_pgm(self.entries[0].path).shape
         self.intrinsics = Intrinsics.from_fov(w, h, *KINECT_V1_FOV_DEG)
         times = np.array([e.time for e in self.entries])
-        step = float(np.median(np.diff(times))) if len(times) > 1 else 0.0
-        self.fps = 1.0 / step if step > 0 else 30.0
+        self.fps = frame_rate(times)
         self._span = float(times[-1] - times[0]) + 1.0 / self.fps  # one pass, for looping
         self._played = 0
 

@@ -97,9 +97,12 @@ class EngineBackend(Backend):
         if self.geometry is not None:
             depth = to_geometry(depth, *self.geometry)
         result, gestures = self.engine.step(depth)
-        hands = self._reported_hands(result.hands, gestures) if self.tracking_hands else ()
+        hands: tuple[Hand, ...] = ()
+        if self.tracking_hands:
+            hands = self._reported_hands(result.hands, gestures)
+            if self._sides is not None:
+                hands = self._sides.present(depth.timestamp, hands, result.body, depth.mirrored)
         if self._sides is not None:
-            hands = self._sides.present(depth.timestamp, hands, result.body, depth.mirrored) if self.tracking_hands else ()
             gestures = [self._sides.gesture(g) for g in gestures]
         self._seq += 1
         return Frame(self._seq, depth.capture_time, depth, hands,

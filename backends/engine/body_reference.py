@@ -50,13 +50,14 @@ class BodyReference:
 
     def update(self, t: float, hands: Mapping[int, np.ndarray], body: Mapping[str, tuple]) -> BodyFrame:
         r = self.rules
-        estimate = self._estimate(t, hands)
+        self._follow(t, hands)
         torso, head = body.get("torso"), body.get("head")
         if torso is not None or head is not None:
             self._given = (t, torso, head)
         elif self._given is not None and t - self._given[0] <= r.body_hold_s:
             _, torso, head = self._given  # a skeleton missing for a moment: the body has not moved
         if torso is None and head is None:  # estimated: its vertical speed is unknown, say steady
+            estimate = self._estimate()
             torso = estimate if estimate is not None else np.zeros(3)
             head_y = float(torso[1]) + r.head_above_torso_mm
             return BodyFrame(torso, head_y - r.shoulder_below_head_mm, head_y, 0.0)
@@ -75,7 +76,8 @@ class BodyReference:
         t0, y0 = self._heights[0]
         return (y - y0) / (t - t0) if t > t0 else 0.0
 
-    def _estimate(self, t: float, hands: Mapping[int, np.ndarray]) -> np.ndarray | None:
+    def _follow(self, t: float, hands: Mapping[int, np.ndarray]) -> None:
+        """Every frame: the body's motion shared by the hands, and the recent resting-hand figures."""
         r = self.rules
         if self._t is not None and t > self._t:
             dt = t - self._t
@@ -93,6 +95,10 @@ class BodyReference:
             self._recent.append((t, float(rel[:, 0].mean()), float(rel[:, 1].min()), float(rel[:, 2].max())))
         while self._recent and t - self._recent[0][0] > r.body_window_s:
             self._recent.popleft()
+
+    def _estimate(self) -> np.ndarray | None:
+        """The body from the hands alone (only needed without body points)."""
+        r = self.rules
         if not self._recent:
             return None
         rec = np.array(self._recent)

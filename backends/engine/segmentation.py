@@ -44,7 +44,6 @@ class SegmentationOptions(BaseModel):
 class Grid:
     """The coarse grid of one frame: depth and world coordinates in mm (0 where no reading)."""
 
-    step: int
     z: np.ndarray  # (h, w) float32 mm, 0 = no reading
     x: np.ndarray
     y: np.ndarray
@@ -82,7 +81,7 @@ class Segmenter:
         z[(z < o.near_mm) | (z > o.far_mm)] = 0
         gx, gy, cell = self._ray_grid(depth, step, z.shape)
         i = depth.intrinsics
-        return Grid(step, z, z * gx, z * gy, (z * z) * cell, step / i.fx, step / i.fy)
+        return Grid(z, z * gx, z * gy, (z * z) * cell, step / i.fx, step / i.fy)
 
     def _ray_grid(self, depth: DepthFrame, step: int, shape: tuple[int, int]):
         """Per grid cell: x/z and y/z of its ray, and its solid angle; cached per geometry."""
@@ -184,7 +183,7 @@ class Segmenter:
         flat = labels.ravel()
         area = np.bincount(flat, weights=g.pixel_area_mm2.ravel(), minlength=count)
         area[0] = 0
-        n = np.maximum(np.bincount(flat, minlength=count), 1)
+        n = np.maximum(stats[:, cv2.CC_STAT_AREA], 1)  # cells per surface
         mean = [np.bincount(flat, weights=c.ravel(), minlength=count) / n for c in (g.x, g.y, g.z)]
         zz = np.bincount(flat, weights=(g.z.astype(np.float64) ** 2).ravel(), minlength=count) / n
         spread = np.sqrt(np.maximum(zz - mean[2] ** 2, 0))

@@ -64,10 +64,9 @@ class BodyEstimator:
     def estimate(self, seg: Segment, t: float) -> Body | None:
         """The body frame of this frame at `t` seconds (None without a user)."""
         o, g, mask = self.options, seg.grid, seg.mask
-        z_user = g.z[mask]
-        if z_user.size == 0:
+        if not mask.any():
             return None
-        ref = self._surface_z if self._surface_z is not None else float(np.median(z_user))
+        ref = self._surface_z if self._surface_z is not None else float(np.median(g.z[mask]))
         k = max(3, int(round(o.core_width_mm / (g.cell_x * ref))))
         kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k, k))
         # The trunk's position and depth come from the part near its own plane (an arm held in

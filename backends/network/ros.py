@@ -25,7 +25,7 @@ from functools import cache
 import numpy as np
 
 from backends.network import wire
-from backends.network.publisher import DepthGate, DepthOptions
+from backends.network.publisher import HEARTBEAT_S, DepthGate, DepthOptions
 from backends.network.subscriber import Accounting, Notice, stderr_notice
 from host import (DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics,
                   PluginUnavailable, Side)
@@ -207,7 +207,7 @@ class RosPublisher:
                                               depth=depth is not None, backend=frame.backend or self.backend))
         if depth is not None:
             self._publish_depth(frame, depth)
-        if time.monotonic() - self._last_status >= 0.5:
+        if time.monotonic() - self._last_status >= HEARTBEAT_S:
             self._status(wire.HEARTBEAT)
 
     def _depth(self, frame: Frame) -> DepthFrame | None:
@@ -335,7 +335,7 @@ class RosSubscriber:
         frame = DepthFrame(data.reshape(d.frame_height, d.frame_width), Intrinsics(*map(float, d.intrinsics)),
                            frame_id=d.frame_id, timestamp=d.frame_timestamp.to_sec(),
                            capture_time=d.header.stamp.to_sec(), mirrored=d.mirrored)
-        return wire.DepthMsg(self._header(d.header, wire.DEPTH), d.frame_seq, frame, data.nbytes)
+        return wire.DepthMsg(self._header(d.header, wire.DEPTH), d.frame_seq, frame)
 
     def _info(self, info) -> None:
         k = info.K
@@ -349,7 +349,7 @@ class RosSubscriber:
         data = np.frombuffer(img.data, np.uint16).reshape(img.height, img.width)
         frame = DepthFrame(data, self._intrinsics, timestamp=img.header.stamp.to_sec(),
                            capture_time=img.header.stamp.to_sec())
-        return wire.DepthMsg(self._header(img.header, wire.DEPTH), img.header.seq, frame, len(img.data))
+        return wire.DepthMsg(self._header(img.header, wire.DEPTH), img.header.seq, frame)
 
     def _status(self, s) -> wire.StatusMsg:
         msg = wire.decode(bytes.fromhex(s.data))

@@ -69,7 +69,6 @@ class DepthMsg:
     header: Header
     frame_seq: int
     depth: DepthFrame
-    wire_bytes: int
 
 
 @dataclass(frozen=True)
@@ -207,6 +206,14 @@ def _unplain(raw: bytes, shape: tuple[int, int]) -> np.ndarray:
     return np.frombuffer(raw, np.uint16).reshape(shape)
 
 
+def _delta_shuffle(a: np.ndarray) -> bytes:
+    return _shuffle(_delta(a))
+
+
+def _undelta_shuffle(raw: bytes, shape: tuple[int, int]) -> np.ndarray:
+    return _undelta(_unshuffle(raw, shape))
+
+
 # Banded zstd (the default): the image in bands of rows, each its own zstd frame, compressed and
 # decompressed two bands at a time where the machine has two cores (zstd releases the GIL). A
 # 640x480 image takes ~2 ms in one piece; in bands on two threads about half, and the compressor
@@ -283,14 +290,13 @@ def _banded_decode(payload: bytes, shape: tuple[int, int]) -> np.ndarray:
 CODECS: dict[str, Codec] = {c.name: c for c in (
     _bytes_codec(0, "raw", _plain, _unplain, lambda b: b, _raw_decode),
     _bytes_codec(1, "zstd", _plain, _unplain, _zstd_in, _zstd_out),
-    _bytes_codec(2, "delta-shuffle-zstd", lambda a: _shuffle(_delta(a)),
-                 lambda r, s: _undelta(_unshuffle(r, s)), _zstd_in, _zstd_out),
+    _bytes_codec(2, "delta-shuffle-zstd", _delta_shuffle, _undelta_shuffle, _zstd_in, _zstd_out),
     _bytes_codec(4, "shuffle-zstd", _shuffle, _unshuffle, _zstd_in, _zstd_out),
     Codec(5, "banded-zstd", _banded_encode, _banded_decode),
 )}
 if importlib.util.find_spec("lz4") is not None:  # optional: measured when installed
-    CODECS["delta-shuffle-lz4"] = _bytes_codec(3, "delta-shuffle-lz4", lambda a: _shuffle(_delta(a)),
-                                               lambda r, s: _undelta(_unshuffle(r, s)), _lz4_encode, _lz4_decode)
+    CODECS["delta-shuffle-lz4"] = _bytes_codec(3, "delta-shuffle-lz4", _delta_shuffle, _undelta_shuffle,
+                                               _lz4_encode, _lz4_decode)
 CODEC_BY_ID = {c.id: c for c in CODECS.values()}
 DEFAULT_CODEC = "banded-zstd"
 
@@ -345,7 +351,7 @@ def decode(data: bytes) -> Message:
     h = Header(kind, session, seq, capture)
     body = memoryview(data)[HEADER.size:]
     if kind == DEPTH:
-        return _decode_depth(h, body, len(data))
+        return _decode_depth(h, body)
     if kind in (HANDS, GESTURE, HEARTBEAT, BYE):
         doc = _load_json(body)
         try:
@@ -355,7 +361,7 @@ def decode(data: bytes) -> Message:
     raise WireError("unknown-kind", f"message kind {kind}")
 
 
-def _decode_depth(h: Header, body: memoryview, size: int) -> DepthMsg:
+def _decode_depth(h: Header, body: memoryview) -> DepthMsg:
     if len(body) < DEPTH_BODY.size:
         raise WireError("truncated", f"depth body of {len(body)} bytes, shorter than {DEPTH_BODY.size}")
     frame_seq, frame_id, ts, w, hgt, codec_id, mirrored, fx, fy, cx, cy = DEPTH_BODY.unpack_from(body)
@@ -369,7 +375,7 @@ def _decode_depth(h: Header, body: memoryview, size: int) -> DepthMsg:
     data = codec.decode(body[DEPTH_BODY.size:], (hgt, w))
     depth = DepthFrame(data, Intrinsics(fx, fy, cx, cy), frame_id=frame_id, timestamp=ts,
                        capture_time=h.capture_time, mirrored=bool(mirrored))
-    return DepthMsg(h, frame_seq, depth, size)
+    return DepthMsg(h, frame_seq, depth)
 
 
 def _load_json(body: memoryview) -> dict:

@@ -40,7 +40,6 @@ NITE2_HELP = (f"set NITE2_REDIST, or the backend option nite2_redist, to the NiT
               f"holding {NITE2_LIBRARY}")
 #: NiTE's gesture types (openni.nite2.c_api.NiteGestureType) by our canonical name.
 NITE_GESTURES = {"wave": "NITE_GESTURE_WAVE", "click": "NITE_GESTURE_CLICK", "hand_raise": "NITE_GESTURE_HAND_RAISE"}
-FOCUS = ("wave", "click")  # NiTE's focus gestures: they start hand tracking where they happened
 # NiteHandState / NiteGestureState bit flags (NiTE.h)
 HAND_LOST, HAND_NEW, HAND_TRACKED, HAND_TOUCHING_FOV = 0, 1, 2, 4
 GESTURE_NEW, GESTURE_IN_PROGRESS, GESTURE_COMPLETED = 1, 2, 4
@@ -100,6 +99,7 @@ class NiteSession:
         self.types = {name: getattr(nite2.c_api.NiteGestureType, native) for name, native in NITE_GESTURES.items()}
         self.names = {int(t): name for name, t in self.types.items()}
         self.dictionary = backend.dictionary  # canonical name -> our native type (NiTE's three)
+        self.focus = backend.focus_gestures  # they start hand tracking where they happened
         self.detecting: set[str] = set()
         self.tracking = False
         self.intrinsics: Intrinsics | None = None
@@ -110,7 +110,7 @@ class NiteSession:
 
     def detect(self, gestures: bool, hands: bool) -> None:
         """NiTE detects a gesture only while someone needs it: reports, or focus for hand tracking."""
-        wanted = set(NITE_GESTURES if gestures else ()) | set(FOCUS if hands else ())
+        wanted = set(NITE_GESTURES if gestures else ()) | set(self.focus if hands else ())
         wanted &= set(self.dictionary)
         for name in sorted(wanted - self.detecting):
             self.tracker.start_gesture_detection(self.types[name])
@@ -170,7 +170,7 @@ class NiteSession:
                 self.announced.pop(name, None)
             hand = nearest(hands, position)
             hand_id = hand.id if hand is not None else 0
-            if complete and name in FOCUS and self.tracking and hand is None:
+            if complete and name in self.focus and self.tracking and hand is None:
                 new = self.tracker.start_hand_tracking(self.nite2.Point3f(*position))
                 hand_id = int(getattr(new, "value", new))
             if name in self.dictionary:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-from host.compare import run_backend
+from host.compare import backend_entry, run_backend
 from host.errors import UserError
 from host.plugins import default_registry
 from host.recording import Recording
@@ -51,9 +51,8 @@ def main(args: argparse.Namespace) -> int:
 
     path = Path(args.recording)
     registry = default_registry()
-    for name in args.backends:
-        if registry.get("backends", name) is None:
-            raise UserError(f"--backends: unknown backend {name!r}; installed: {', '.join(registry.names('backends'))}")
+    for name in args.backends:  # refuse unknown names before anything runs
+        backend_entry(registry, name)
     info = describe(path)
     runs = []
     with Progress(TextColumn("{task.description:>18}"), BarColumn(), MofNCompleteColumn(),

@@ -7,9 +7,8 @@ import time
 from pathlib import Path
 
 from host import profile as profiles
-from host.assemble import make_backend
+from host.assemble import make_backend, make_stage
 from host.commands.run import check_sensor, play
-from host.contracts import Stage
 from host.loop import Limits, Show
 from host.metrics import Metrics
 from host.model import Frame
@@ -57,8 +56,7 @@ def main(args: argparse.Namespace) -> int:
     writer = RecordingWriter(args.output, {"profile": str(prof.path), "backend": backend.name, "source": source})
     sink = RecordingSink(writer)
     tap = SensorTap(backend, sink.frame, sink.finish)
-    output = prof.model.output
-    stage = Stage(size=tuple(output.size), fps=output.fps, backend=backend.name)
+    stage = make_stage(prof, backend)
     status = StatusLine()
     show = Show(tap, [], stage, pm=default_manager(), limits=Limits(args.frames, args.seconds), status=status)
     sink.metrics = show.metrics

@@ -8,8 +8,7 @@ import sys
 from pathlib import Path
 
 from host import profile as profiles
-from host.assemble import make_backend, make_effects
-from host.contracts import Stage
+from host.assemble import make_backend, make_effects, make_stage
 from host.errors import UserError
 from host.loop import Limits, Show
 from host.metrics import Metrics
@@ -66,7 +65,7 @@ def main(args: argparse.Namespace) -> int:
         output.snapshot = args.snapshot
     backend = make_backend(prof, realtime=not args.fast)
     effects = make_effects(prof)
-    stage = Stage(size=tuple(output.size), fps=output.fps, backend=backend.name)
+    stage = make_stage(prof, backend)
     renderer = None
     if needs_renderer(prof, args):
         from host.render import make_renderer  # moderngl is imported only when a show draws

@@ -11,9 +11,8 @@ import sys
 from pathlib import Path
 
 from host import profile as profiles
-from host.assemble import make_backend
+from host.assemble import make_backend, make_stage
 from host.commands.run import check_sensor, play
-from host.contracts import Stage
 from host.errors import UserError
 from host.loop import Limits, Show
 from host.status import StatusLine
@@ -82,7 +81,7 @@ def main(args: argparse.Namespace) -> int:
     publisher = make_publisher(args, inner.name)
     # Every frame the backend makes is published on the sensor thread, before newest-wins.
     backend = SensorTap(inner, publisher.publish, publisher.close)
-    stage = Stage(size=tuple(prof.model.output.size), fps=prof.model.output.fps, backend=inner.name)
+    stage = make_stage(prof, inner)
     status = StatusLine(extra=lambda: published(publisher))
     show = Show(backend, [], stage, limits=Limits(args.frames, args.seconds), status=status)
     where = publisher.stats()["bind"]

@@ -38,8 +38,6 @@ def track(clip: Path, backend_cls, source_cls, tag: str | None, out) -> None:
     """Play one clip through a fresh backend, writing its lines to `out`."""
     source = source_cls(source_cls.Options(path=str(clip)))
     backend = backend_cls(source, backend_cls.Options())
-    if not backend_cls.needs_source:
-        raise UserError(f"backend {backend_cls.name!r} does not track depth (it makes its own frames)")
     extra = {"clip": tag} if tag is not None else {}
     try:
         with backend:
@@ -53,6 +51,8 @@ def track(clip: Path, backend_cls, source_cls, tag: str | None, out) -> None:
 
 def main(args: argparse.Namespace) -> int:
     backend_cls = _plugin("backends", args.backend)
+    if not backend_cls.needs_source:
+        raise UserError(f"backend {backend_cls.name!r} does not track depth (it makes its own frames)")
     source_cls = _plugin("sources", "clip")
     several = len(args.clips) > 1
     for clip in args.clips:

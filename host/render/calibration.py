@@ -124,12 +124,12 @@ def read_points(path: str | Path, intrinsics: Intrinsics | None) -> tuple[np.nda
     if not ({"stage_x", "stage_y"} <= header and (mm or {"u", "v"} <= header)):
         raise UserError(f"{path}: expected a header `u,v,stage_x,stage_y` (depth pixels) or "
                         f"`x,y,z,stage_x,stage_y` (camera mm), got {','.join(rows[0]) if rows else 'an empty file'}")
+    if mm and intrinsics is None:
+        raise UserError(f"{path}: camera mm need the source's intrinsics; give depth pixels u,v instead")
     cam, stage = [], []
     for line, row in enumerate(rows, start=2):
         try:
             if mm:
-                if intrinsics is None:
-                    raise UserError(f"{path}: camera mm need the source's intrinsics; give depth pixels u,v instead")
                 u, v, _ = intrinsics.world_to_depth(float(row["x"]), float(row["y"]), float(row["z"]))
             else:
                 u, v = float(row["u"]), float(row["v"])

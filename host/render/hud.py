@@ -66,7 +66,7 @@ class Hud:
         for i, text in enumerate(lines(m)):
             cv2.putText(img, text, (int(10 * self.scale), self.line_h * (i + 1)), FONT, 0.9 * self.scale,
                         (255, 255, 255, 255), max(1, int(2 * self.scale)), cv2.LINE_AA)
-        self.texture.write(np.ascontiguousarray(img[::-1]).tobytes())
+        self.texture.write(np.ascontiguousarray(img[::-1]))
 
     def draw(self, m: Metrics, target: moderngl.Framebuffer) -> None:
         now = time.monotonic()

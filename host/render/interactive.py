@@ -149,12 +149,16 @@ def calibrate_interactively(prof: Profile) -> dict[str, object] | None:
     with backend:
         thread = threading.Thread(target=sense, name="issv-calibrate-sensor", daemon=True)
         thread.start()
-        keystone = Keystone(window.ctx, window.size, [tuple(c) for c in session.corners])
+        shown = [tuple(c) for c in session.corners]
+        keystone = Keystone(window.ctx, window.size, shown)
         try:
             while not window.closing:
                 session.hand(latest[0], time.monotonic())
-                keystone.set_corners([tuple(c) for c in session.corners])
-                keystone.texture.write(np.ascontiguousarray(session.picture(latest[0])[::-1]).tobytes())
+                corners = [tuple(c) for c in session.corners]
+                if corners != shown:  # re-solve and upload the warp only when a corner moved
+                    shown = corners
+                    keystone.set_corners(shown)
+                keystone.texture.write(np.ascontiguousarray(session.picture(latest[0])[::-1]))
                 keystone.draw(window.fbo)
                 window.present()
         finally:

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from host import Side, Vec3
+from sources.clip import BODY_JOINTS
 from sources.synthetic.render import Capsule, Ellipsoid, Shape
 
 UP = np.array([0.0, 1.0, 0.0])
@@ -108,7 +109,7 @@ class Pose:
 
     @property
     def body(self) -> dict[str, Vec3]:
-        return {name: self.point(name) for name in ("head", "torso", "left_shoulder", "right_shoulder")}
+        return {name: self.point(name) for name in BODY_JOINTS}
 
 
 class Performer:

@@ -13,12 +13,12 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from host import DepthFrame, Intrinsics, Side, Source, Truth
 from host.options import ProfilePath
+from sources.fakenect import KINECT_V1_FOV_DEG
 from sources.synthetic.choreography import Step, Timeline, default_steps, load_file
 from sources.synthetic.performer import Body, Performer
 from sources.synthetic.render import Raster
 from sources.synthetic.sensor import KinectModel
 
-KINECT_FOV_DEG = (57.0, 43.0)
 CAMERA_HEIGHT_MM = 1100.0  # the sensor on a stand at chest height, looking level
 WALL_BEHIND_MM = 1500.0  # back wall distance behind the performer
 
@@ -62,7 +62,7 @@ class SyntheticSource(Source):
         else:
             self.steps, self.origin = o.choreography or default_steps(), "source.choreography"
         self.fps = float(o.fps)
-        self.intrinsics = Intrinsics.from_fov(o.width, o.height, *KINECT_FOV_DEG)
+        self.intrinsics = Intrinsics.from_fov(o.width, o.height, *KINECT_V1_FOV_DEG)
         self.body = Body(o.height_mm)
         self.timeline = self._pass(0.0, 0.0)  # checks the walks now, not mid-show
 

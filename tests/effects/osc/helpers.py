@@ -12,7 +12,7 @@ import socket
 import subprocess
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
@@ -22,22 +22,15 @@ from pythonosc.osc_message import OscMessage
 from pythonosc.osc_bundle import OscBundle
 
 from backends.truth import TruthBackend
+from bench.osc import PATCH as PD_PATCH, UdpInbox, free_port, pd_command
 from effects.osc import OscEffect
 from effects.osc.destinations import warn_stderr
 from host import DepthFrame, Intrinsics, Side, Source, Stage, Truth, TruthGesture
 from host.loop import EffectSlot, Limits, PacedSource, Show
 
 ROOT = Path(__file__).resolve().parents[3]
-PD_PATCH = ROOT / "patches" / "issv-receiver.pd"
 K = Intrinsics.from_fov(640, 480, 57, 43)
 FPS = 30.0
-
-
-def free_port() -> int:
-    """An ephemeral UDP port nobody holds right now (tests run in parallel)."""
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def hand_at(side: Side, i: int) -> tuple[float, float, float]:
@@ -112,37 +105,19 @@ def decode(data: bytes) -> tuple[bool, list[tuple[str, str, list]]]:
     return False, [one(data)]
 
 
-@dataclass
-class Receiver:
+class Receiver(UdpInbox):
     """A UDP socket on an ephemeral port that records every datagram on a thread."""
 
-    sock: socket.socket = field(default_factory=lambda: socket.socket(socket.AF_INET, socket.SOCK_DGRAM))
-    packets: list[Packet] = field(default_factory=list)
-
-    def __post_init__(self) -> None:
-        self.sock.bind(("127.0.0.1", 0))
-        self.sock.settimeout(0.05)
-        self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._run, daemon=True)
-        self._thread.start()
+    def __init__(self) -> None:
+        self.packets: list[Packet] = []
+        super().__init__()
 
     @property
     def address(self) -> str:
-        return f"127.0.0.1:{self.sock.getsockname()[1]}"
+        return f"127.0.0.1:{self.port}"
 
-    @property
-    def port(self) -> int:
-        return self.sock.getsockname()[1]
-
-    def _run(self) -> None:
-        while not self._stop.is_set():
-            try:
-                data = self.sock.recv(65536)
-            except (TimeoutError, socket.timeout):
-                continue
-            except OSError:
-                return
-            self.packets.append(Packet(time.time(), *decode(data)))
+    def handle(self, data: bytes, at: float) -> None:
+        self.packets.append(Packet(at, *decode(data)))
 
     def wait_for(self, predicate, timeout: float = 5.0) -> bool:
         deadline = time.time() + timeout
@@ -159,11 +134,6 @@ class Receiver:
     def messages(self, address: str | None = None) -> list[tuple[str, str, list]]:
         return [m for p in list(self.packets) for m in p.messages if address is None or m[0] == address]
 
-    def close(self) -> None:
-        self._stop.set()
-        self._thread.join(1.0)
-        self.sock.close()
-
 
 class PureData:
     """`pd -nogui` running patches/issv-receiver.pd, listening on `port`, echoing to `echo`."""
@@ -174,9 +144,7 @@ class PureData:
         self.port = free_port()
         self.echo = echo
         self.proc = subprocess.Popen(
-            ["pd", "-nogui", "-noaudio", "-stderr", "-sleepgrain", "0.1", "-open", str(patch),
-             "-send", f"issv-listen {self.port}", "-send", f"issv-echo 127.0.0.1 {echo.port}"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+            pd_command(self.port, echo.port, patch), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if not echo.wait_for(lambda r: r.messages("/echo/ready"), timeout=10):
             self.close()
             raise RuntimeError(f"Pure Data did not start the patch: {self.stderr}")

@@ -99,10 +99,6 @@ def run_show(effects: list[Effect | tuple[Effect, str, float]], frames: list[Fra
     return image, show, stage
 
 
-def stage_point(stage: Stage, frame: Frame, position) -> tuple[float, float]:
-    return stage.to_stage(position, frame.depth)
-
-
 def lit(image: np.ndarray, xy: tuple[float, float], radius: int = 1) -> np.ndarray:
     """The brightest BGR pixel around (x, y) in image pixels."""
     x, y = int(round(xy[0])), int(round(xy[1]))
