@@ -83,14 +83,16 @@ class _HandTrack:
     def sample(self, t: float, p: np.ndarray, shoulder: float, head: float, world: Vec3, body_vy: float) -> Sample:
         """The new sample with its velocity over the speed window, kept in a short history."""
         window = self.rules.speed_window_s
+        last = self.samples[-1] if self.samples else None
+        since = last.seen_since if last is not None and t - last.t <= self.rules.track_gap_s else t
         ref = None
         for q in reversed(self.samples):
+            if q.seen_since != since:
+                break  # before a gap: where the hand went meanwhile is unknown, so no speed across it
             ref = q
             if t - q.t >= window:
                 break
         v = (p - ref.p) / (t - ref.t) if ref is not None and t > ref.t else np.zeros(3)
-        last = self.samples[-1] if self.samples else None
-        since = last.seen_since if last is not None and t - last.t <= self.rules.track_gap_s else t
         s = Sample(t, p, v, shoulder, head, world, body_vy, since)
         self.samples.append(s)
         while self.samples and t - self.samples[0].t > _HISTORY_S:

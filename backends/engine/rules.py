@@ -83,7 +83,8 @@ class GestureRules(BaseModel):
     # --- click / push -------------------------------------------------------------------------
     click_min_travel_mm: float = Field(200.0, gt=0, description="forward travel towards the camera")
     click_min_duration_s: float = Field(
-        0.15, ge=0, description="a forward jump quicker than this is a tracking glitch, not a push")
+        0.1, ge=0, description="a forward jump quicker than this is a tracking glitch, not a push (a depth "
+        "tracker sees a fast push only once the hand is off the chest: three frames at 30 Hz)")
     click_max_duration_s: float = Field(0.6, gt=0, description="a slower forward motion is a reach")
     click_min_peak_speed_mm_s: float = Field(700.0, gt=0, description="peak forward speed")
     click_halt_max_speed_mm_s: float = Field(

@@ -79,8 +79,9 @@ class Stroke:
         if not fast:
             return self
         first = fast[0]
-        if first > 0 and self.samples[first].t - self.samples[first - 1].t > gap_s:
-            first -= 1  # the hand was not seen for a while: the fast motion began where it was last seen
+        before = self.samples[first - 1] if first > 0 else None
+        if before is not None and (self.samples[first].t - before.t > gap_s or before.t == before.seen_since):
+            first -= 1  # the fast motion began where the hand was last seen, or first seen (its speed unknown)
         return Stroke(self.axis, self.direction, self.samples[first: fast[-1] + 1])
 
     @property

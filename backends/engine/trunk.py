@@ -34,6 +34,9 @@ class BodyOptions(BaseModel):
     head_radius_mm: float = Field(150, gt=0, description="half the width of the column the head is looked for in")
     shoulder_below_crown_mm: float = Field(350, gt=0, description="shoulder joints below the top of the head")
     crown_above_head_mm: float = Field(60, ge=0, description="top of the head (as the coarse grid sees it) above the head joint")
+    hidden_crown_hold_s: float = Field(0.5, ge=0, description=(
+        "while an arm in front hides the top of the head (a swipe past the face), the crown is taken "
+        "where it was last seen, for up to this long"))
 
 
 @dataclass(frozen=True)
@@ -56,6 +59,7 @@ class BodyEstimator:
 
     def reset(self) -> None:
         self._surface_z: float | None = None
+        self._last_crown: tuple[float, float] | None = None  # (t, mm): kept while an arm hides the head
         # The body moves slower than its outline flickers: the frame (spine x, shoulder line,
         # surface depth) and the head are smoothed before hands are judged from them.
         self._frame = OneEuroFilter(self.smoothing)
@@ -83,8 +87,13 @@ class BodyEstimator:
             outline = core
         centre_x = float(np.median(g.x[core]))
         shoulder_y = float(np.percentile(g.y[outline], 98)) - o.shoulder_below_core_top_mm
-        column = mask & (np.abs(g.x - centre_x) < o.head_radius_mm) & (np.abs(g.z - ref) < o.plane_band_mm)
-        crown = self._crown(g.y, column)
+        above_spine = mask & (np.abs(g.x - centre_x) < o.head_radius_mm)
+        column = above_spine & (np.abs(g.z - ref) < o.plane_band_mm)
+        crown = self._crown(g.y, column, above_spine & (g.z <= ref - o.plane_band_mm), o.head_radius_mm)
+        if crown is not None:
+            self._last_crown = (t, crown)
+        elif self._last_crown is not None and t - self._last_crown[0] <= o.hidden_crown_hold_s:
+            crown = self._last_crown[1]
         if crown is not None:
             shoulder_y = min(shoulder_y, crown - o.shoulder_below_crown_mm)
         trunk = core & (g.y > shoulder_y - o.trunk_height_mm) & (g.y < shoulder_y)
@@ -106,13 +115,19 @@ class BodyEstimator:
         return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface, core)
 
     @staticmethod
-    def _crown(y: np.ndarray, column: np.ndarray) -> float | None:
-        """Height (mm) of the highest row of the head's column with two or more cells (one is noise)."""
+    def _crown(y: np.ndarray, column: np.ndarray, in_front: np.ndarray, hidden_mm: float) -> float | None:
+        """Height (mm) of the highest row of the head's column with two or more cells (one is noise);
+        None when something in front of the body (an arm swiping past the face) covers the column
+        just above that row (within `hidden_mm`): the head may go on behind it, so the crown would
+        read too low. A hand held higher, clear of the head, hides nothing."""
         rows = np.flatnonzero(column.sum(axis=1) >= 2)
         if rows.size == 0:
             return None
         top = rows[0]
-        return float(np.median(y[top][column[top]]))
+        crown = float(np.median(y[top][column[top]]))
+        if (in_front & (y >= crown) & (y <= crown + hidden_mm)).any():
+            return None
+        return crown
 
     @staticmethod
     def _open(mask: np.ndarray, kernel: np.ndarray) -> np.ndarray:

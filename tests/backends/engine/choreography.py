@@ -128,14 +128,14 @@ def wave(swings: int = 6, amplitude: float = 240.0, half_period: float = 0.2, he
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 
 
-def push(pushes: int = 1, travel: float = 400.0, pause: float = 0.4) -> Performance:
-    """Both hands up in front of the shoulders, pushed forward `travel` mm in 0.25 s and back."""
+def push(pushes: int = 1, travel: float = 400.0, pause: float = 0.4, seconds: float = 0.25) -> Performance:
+    """Both hands up in front of the shoulders, pushed forward `travel` mm in `seconds` and back."""
     hands = {}
     for side, x in ((Side.LEFT, -150.0), (Side.RIGHT, 150.0)):
         near, far = (x, 300.0, -200.0), (x, 300.0, -200.0 - travel)
         path = rest(side).hold(0.3).then(0.6, near).hold(0.3)
         for _ in range(pushes):
-            path = path.then(0.25, far).hold(0.15).then(0.3, near).hold(pause)
+            path = path.then(seconds, far).hold(0.15).then(0.3, near).hold(pause)
         hands[side] = path.then(0.7, REST[side])
     end = max(p.end for p in hands.values())
     return Performance(hands, end + 0.5)

@@ -195,3 +195,28 @@ def test_kinect_v1_geometry_keeps_world_positions(wave):
     su, sv, _ = small.world_to_depth((x, y, z))
     assert abs(small.data[int(round(sv)), int(round(su))] - int(z)) < 60
     assert to_geometry(big, *KINECT_V1) is big
+
+
+@pytest.mark.parametrize("covered", [False, True])
+def test_a_forearm_across_the_face_does_not_move_the_body(covered):
+    """A swipe passes in front of the face: the top of the head is hidden behind the forearm, and
+    a crown read below it would drop the shoulder line and the torso (hands judged against a body
+    that jumps make gestures of nothing). The body stays put; an uncovered head still counts."""
+    standing = frames([{"action": "idle", "duration": 1.0}], background="none")
+    k = standing[0].intrinsics
+    head = np.array(standing[0].truth.body["head"])
+    u, v, _ = k.world_to_depth(*head)
+    z = head[2] - 450  # a forearm 45 cm in front of the face, from its centre to 200 mm above it
+    top, bottom = (int(k.world_to_depth(head[0], head[1] + dy, head[2])[1]) for dy in (200, 0))
+    half = int(200 * k.fx / head[2])
+    tracker = HandTracker()
+    torso = []
+    for i, f in enumerate(standing):
+        data = f.data.copy()
+        if i >= len(standing) // 2:
+            # uncovered: the same forearm held 300-400 mm above the head's centre, clear of the head
+            rows = slice(top, bottom) if covered else slice(top - (bottom - top), top - (bottom - top) // 2)
+            data[rows, int(u) - half:int(u) + half] = int(z)
+        torso.append(tracker.process(replace(f, data=data)).body["torso"][1])
+    before, during = np.array(torso[: len(torso) // 2]), np.array(torso[len(torso) // 2:])
+    assert abs(float(np.median(during) - np.median(before))) < 25
