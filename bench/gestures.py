@@ -110,6 +110,7 @@ class DepthVariation:
     """How an unseen performer's depth may differ from the dev pair's, made from a real clip."""
 
     farther_mm: float = 0.0  # every reading re-projected this much farther away (a smaller image)
+    scale: float = 1.0  # a smaller or taller performer: every reading scaled about the spine joint
     tempo: float = 1.0  # < 1: the same performance, faster (frames skipped at the same frame rate)
     kinect_noise: float = 0.0  # extra depth noise, in units of a Kinect v1's (sigma = 1.425e-6 z^2 mm)
     holes: float = 0.0  # share of readings dropped
@@ -118,33 +119,46 @@ class DepthVariation:
         """The clip's arrays (DESIGN.md's depth clip format) as this performer would give them."""
         index = np.clip(np.round(np.arange(0, len(clip), 1 / self.tempo)).astype(int), 0, len(clip) - 1)
         k = clip.intrinsics
-        depth = np.stack([self._frame(clip.depth[i], k, rng) for i in index])
-        shift = np.array([0.0, 0.0, self.farther_mm])
+        spines = clip.body[:, 1] if clip.body is not None else np.zeros((len(clip), 3))
+        depth = np.stack([self._frame(clip.depth[i], k, spines[i], rng) for i in index])
         out = {"depth": depth, "timestamps": np.arange(len(index)) / clip.fps, "mirrored": clip.mirrored,
                "intrinsics": np.array([k.fx, k.fy, k.cx, k.cy]), "label": clip.label}
         if clip.hands is not None and clip.body is not None:
-            out |= {"hands": clip.hands[index] + shift, "body": clip.body[index] + shift}
+            out |= {"hands": self._move(clip.hands[index], spines[index, None]),
+                    "body": self._move(clip.body[index], spines[index, None])}
         return out
 
-    def _frame(self, depth: np.ndarray, k, rng: np.random.Generator) -> np.ndarray:
+    def _move(self, points: np.ndarray, spine: np.ndarray) -> np.ndarray:
+        return spine + self.scale * (points - spine) + np.array([0.0, 0.0, self.farther_mm])
+
+    def _frame(self, depth: np.ndarray, k, spine: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+        """The frame's readings moved in the world and drawn again, nearer ones last (on top)."""
         v, u = np.nonzero(depth)
         z = depth[v, u].astype(np.float64)
-        if self.farther_mm:  # the same points seen from farther back: nearer ones drawn last, on top
-            scale = z / (z + self.farther_mm)
-            u = np.round(k.cx + (u - k.cx) * scale).astype(int)
-            v = np.round(k.cy + (v - k.cy) * scale).astype(int)
-            z = z + self.farther_mm
+        if self.farther_mm or self.scale != 1.0:
+            points = np.stack([(u - k.cx) * z / k.fx, (k.cy - v) * z / k.fy, z], axis=1)
+            moved = self._move(points, spine)
+            z = moved[:, 2]
+            u = np.round(k.cx + moved[:, 0] * k.fx / z).astype(int)
+            v = np.round(k.cy - moved[:, 1] * k.fy / z).astype(int)
+            inside = (u >= 0) & (u < depth.shape[1]) & (v >= 0) & (v < depth.shape[0])
+            u, v, z = u[inside], v[inside], z[inside]
         if self.kinect_noise:
             z = z + rng.normal(0.0, 1.0, z.size) * self.kinect_noise * 1.425e-6 * z ** 2
         keep = rng.random(z.size) >= self.holes
         order = np.argsort(-z[keep])
+        u, v, z = u[keep][order], v[keep][order], np.clip(z[keep][order], 1, 65535).astype(np.uint16)
         out = np.zeros_like(depth)
-        out[v[keep][order], u[keep][order]] = np.clip(z[keep][order], 1, 65535).astype(np.uint16)
+        spread = int(np.ceil(self.scale))  # a larger image: each reading covers more than one pixel
+        for du in range(spread):
+            for dv in range(spread):
+                out[np.minimum(v + dv, depth.shape[0] - 1), np.minimum(u + du, depth.shape[1] - 1)] = z
         return out
 
 
 DEPTH_VARIATIONS = {
     "0.7 m farther": DepthVariation(farther_mm=700), "1.4 m farther": DepthVariation(farther_mm=1400),
+    "0.85x size": DepthVariation(scale=0.85), "1.15x size": DepthVariation(scale=1.15),
     "faster (0.7x time)": DepthVariation(tempo=1 / 0.7), "Kinect noise x2, 3 % holes": DepthVariation(kinect_noise=2, holes=0.03),
 }
 
