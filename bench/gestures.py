@@ -17,8 +17,9 @@
 (c) unseen performers, approximated: the real trajectories again with the body and its reach
     scaled about the torso (smaller and taller people), time stretched (faster and slower
     performers) and tracker jitter added; and the real depth clips again with the performer
-    re-projected farther from the camera, played faster (frames skipped) and with a Kinect's
-    depth noise added on top of their own. Recall and false fires per variation. The rules are
+    re-projected farther from the camera, scaled about the spine (smaller and taller people),
+    played faster (frames skipped), with a Kinect's depth noise added on top of their own, and
+    cut shorter after the action. Recall and false fires per variation. The rules are
     in millimetres and seconds, so this shows the margin they leave, not a tuning target.
 """
 from __future__ import annotations
@@ -114,10 +115,12 @@ class DepthVariation:
     tempo: float = 1.0  # < 1: the same performance, faster (frames skipped at the same frame rate)
     kinect_noise: float = 0.0  # extra depth noise, in units of a Kinect v1's (sigma = 1.425e-6 z^2 mm)
     holes: float = 0.0  # share of readings dropped
+    ends_sooner_s: float = 0.0  # the recording stops this much earlier after the action
 
     def apply(self, clip, rng: np.random.Generator) -> dict[str, np.ndarray]:
         """The clip's arrays (DESIGN.md's depth clip format) as this performer would give them."""
-        index = np.clip(np.round(np.arange(0, len(clip), 1 / self.tempo)).astype(int), 0, len(clip) - 1)
+        kept = len(clip) - int(round(self.ends_sooner_s * clip.fps))
+        index = np.clip(np.round(np.arange(0, kept, 1 / self.tempo)).astype(int), 0, kept - 1)
         k = clip.intrinsics
         spines = clip.body[:, 1] if clip.body is not None else np.zeros((len(clip), 3))
         depth = np.stack([self._frame(clip.depth[i], k, spines[i], rng) for i in index])
@@ -160,6 +163,7 @@ DEPTH_VARIATIONS = {
     "0.7 m farther": DepthVariation(farther_mm=700), "1.4 m farther": DepthVariation(farther_mm=1400),
     "0.85x size": DepthVariation(scale=0.85), "1.15x size": DepthVariation(scale=1.15),
     "faster (0.7x time)": DepthVariation(tempo=1 / 0.7), "Kinect noise x2, 3 % holes": DepthVariation(kinect_noise=2, holes=0.03),
+    "recording stops 0.4 s sooner": DepthVariation(ends_sooner_s=0.4),
 }
 
 
@@ -220,6 +224,9 @@ def real_trajectories(backend: str, variation: Variation = Variation()) -> dict:
             times.append(frame.t)
             for h in frame.hands:
                 hands[h.side.value].append(h.position)
+        for g in rec.finish():  # the file ended: as `issv gestures` does
+            names.add(g.name)
+            first_complete.setdefault(g.name, g.timestamp)
         completed[path] = names
         want = POSITIVE.get(label)
         if want in first_complete and want != "wave":  # a wave has no single stroke to end
@@ -252,6 +259,7 @@ def real_clips(backend: str, limit: int | None, variation: DepthVariation | None
             with cls(ClipSource(ClipOptions(path=played))) as b:
                 while (frame := b.update()) is not None:
                     names |= {g.name for g in frame.gestures if g.state is GestureState.COMPLETE}
+                names |= {g.name for g in b.finish() if g.state is GestureState.COMPLETE}
             completed[path] = names
     tally, fire_rate, _ = clip_tally(completed, labels)
     return {"gestures": tally.figures(), "false_fire_rate": fire_rate, "clips": len(files)}

@@ -65,8 +65,9 @@ class Backend(Plugin):
     """A gesture provider: the OIGestureTracker contract (thesis Fig. 31) in Python form.
 
     The host calls `init()`, the start methods, then `update()` on its sensor thread until it
-    returns None (the source ended), then `stop()`. Backends that compute from depth read their
-    `source`; others (network, replay) make frames of their own and take `source=None`.
+    returns None (the source ended), then `finish()` and `stop()`. Backends that compute from
+    depth read their `source`; others (network, replay) make frames of their own and take
+    `source=None`.
     """
 
     needs_source: ClassVar[bool] = True
@@ -95,6 +96,11 @@ class Backend(Plugin):
 
     def update(self) -> Frame | None:
         raise NotImplementedError
+
+    def finish(self) -> tuple[Gesture, ...]:
+        """After `update()` returned None: gestures the backend was still confirming when the
+        source ended, now complete (a swipe in a clip's last quarter second). Default: none."""
+        return ()
 
     def stop(self) -> None:
         self.stop_gesture_detection()

@@ -136,7 +136,8 @@ class Show:
         try:
             while not self._stop.is_set():
                 frame = self.backend.update()
-                if frame is None:
+                if frame is None:  # the source ended: what the backend was still confirming completes
+                    self.gestures.put_all(self.backend.finish())
                     break
                 self.metrics.sensor_frame(frame)
                 self.gestures.put_all(frame.gestures)

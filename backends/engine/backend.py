@@ -109,6 +109,16 @@ class EngineBackend(Backend):
                      tuple(gestures) if self.detecting_gestures else (), self.name,
                      make_user_mask=lambda: result.full_mask(depth))
 
+    def finish(self) -> tuple[Gesture, ...]:
+        """The source ended: the recogniser's swipes still waiting to be confirmed complete."""
+        engine = getattr(self, "engine", None)
+        if engine is None or not self.detecting_gestures:
+            return ()
+        gestures = engine.recognizer.finish()
+        if self._sides is not None:
+            gestures = [self._sides.gesture(g) for g in gestures]
+        return tuple(gestures)
+
     def _reported_hands(self, hands: tuple[Hand, ...], gestures: list[Gesture]) -> tuple[Hand, ...]:
         """All hands, or (focus mode) only those that made a focus gesture, NEW from that frame on."""
         if not self.focus_gestures:

@@ -117,6 +117,7 @@ class GestureRecognizer:
         self._body = BodyReference(self.rules)
         self._tracks: dict[int, _HandTrack] = {}
         self._last_t = float("-inf")
+        self._mirrored = True
 
     def update(self, t: float, hands: Sequence[Hand], body: Mapping[str, Vec3] | None = None,
                mirrored: bool = True) -> list[Gesture]:
@@ -127,7 +128,7 @@ class GestureRecognizer:
         """
         if t < self._last_t:  # the stream started again (a looping clip): a new performance
             self.reset()
-        self._last_t = t
+        self._last_t, self._mirrored = t, mirrored
         live = [h for h in hands if h.state not in _GONE]
         events: list[Gesture] = []
         gone = {h.id for h in hands if h.state in _GONE}
@@ -149,6 +150,17 @@ class GestureRecognizer:
         for hid, track in self._tracks.items():
             if hid not in seen:  # unseen this frame: its pending swipes still come due
                 _Hand(self, track, track.hand, t, mirrored, events, self._tracks).resolve_all()
+        return events
+
+    def finish(self) -> list[Gesture]:
+        """The stream ended (a clip's last frame): swipes still waiting to be confirmed complete, as
+        when a hand leaves the view, at the last frame's time. A stroke still under way is not
+        judged (ended early, an arm dropping to rest would look like a swipe down). Then a new
+        performance."""
+        events: list[Gesture] = []
+        for track in self._tracks.values():
+            _Hand(self, track, track.hand, self._last_t, self._mirrored, events, self._tracks).flush()
+        self.reset()
         return events
 
 

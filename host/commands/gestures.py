@@ -6,8 +6,9 @@ reference points. Rows with the same t form one frame. Prints one event line per
 
 The backend contract used here: a backend whose gestures come from a recogniser that runs on
 any stream of hand positions exposes `@classmethod recognizer(cls, options=None)` returning an
-object with `update(t, hands, body, mirrored) -> list[Gesture]` (the open engine's
-GestureRecognizer). `options` is the backend's validated Options (None: its defaults).
+object with `update(t, hands, body, mirrored) -> list[Gesture]` and, optionally, `finish() ->
+list[Gesture]` for the end of the stream (the open engine's GestureRecognizer). `options` is the
+backend's validated Options (None: its defaults).
 """
 from __future__ import annotations
 
@@ -118,4 +119,6 @@ def main(args: argparse.Namespace) -> int:
     for frame in read_trajectories(args.file):
         for gesture in recognizer.update(frame.t, frame.hands, frame.body, args.mirrored):
             print(json.dumps(gesture.to_json()))
+    for gesture in getattr(recognizer, "finish", list)():  # the file ended: swipes being confirmed complete
+        print(json.dumps(gesture.to_json()))
     return 0

@@ -1,8 +1,9 @@
 """`issv track CLIP.npz [...]`: run a backend over depth clips as fast as possible, print its output.
 
 Per frame one `hands` line (Frame.hands_json()) and one line per gesture event (Gesture.to_json()),
-the event lines of DESIGN.md. With several clips every line also carries `"clip": PATH`, so a
-directory of clips is measured in one process (one backend per clip: each starts fresh).
+the event lines of DESIGN.md; after a clip's last frame, the gestures its end completed
+(Backend.finish()). With several clips every line also carries `"clip": PATH`, so a directory of
+clips is measured in one process (one backend per clip: each starts fresh).
 """
 from __future__ import annotations
 
@@ -45,6 +46,8 @@ def track(clip: Path, backend_cls, source_cls, tag: str | None, out) -> None:
                 out.write(json.dumps({**frame.hands_json(), **extra}) + "\n")
                 for gesture in frame.gestures:
                     out.write(json.dumps({**gesture.to_json(), **extra}) + "\n")
+            for gesture in backend.finish():  # the clip ended: gestures still being confirmed complete
+                out.write(json.dumps({**gesture.to_json(), **extra}) + "\n")
     except PluginUnavailable as error:
         raise UserError(f"backend {backend_cls.name!r}: {error}") from None
 

@@ -35,6 +35,23 @@ def test_a_swipe_file_gives_one_complete_swipe_line(tmp_path):
     assert [e["name"] for e in events(run.stdout) if e["state"] == "complete"] == ["swipe_right"]
 
 
+def test_a_file_that_ends_while_a_swipe_is_confirmed_still_gives_it(tmp_path):
+    """The file stops within the swipe's confirmation time: its end completes the swipe."""
+    performance = c.swipe()
+    recognizer = GestureRecognizer(GestureRules())
+    started = next(t for t, hands, body in performance.frames()
+                   if any(g.state.value == "in_progress" for g in recognizer.update(t, hands, body, True)))
+    rows = performance.write_csv(tmp_path / "full.csv").read_text()
+    header, *body = rows.splitlines()
+    cut = tmp_path / "cut.csv"
+    cut.write_text("\n".join([header] + [r for r in body if float(r.split(",")[0]) <= started + 0.05]) + "\n")
+    run = subprocess.run(["issv", "gestures", str(cut), "--mirrored"], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    lines = events(run.stdout)
+    assert [e["name"] for e in lines if e["state"] == "complete"] == ["swipe_left"]
+    assert lines[-1]["state"] == "complete"
+
+
 class NiteOnlyBackend(Backend):
     """A tiny backend of this test: the engine's recogniser in NiTE mode, nothing else."""
 

@@ -105,3 +105,17 @@ def test_sigterm_stops_a_running_show_cleanly(tmp_path, clip):
     assert proc.returncode == 0, err
     assert "Traceback" not in err
     assert metrics.exists() and '"frames"' in metrics.read_text()
+
+
+class SwipeAtTheEndBackend(BurstBackend):
+    """Its source ends while a swipe is still being confirmed: `finish()` completes it."""
+
+    def finish(self):
+        return (Gesture(GestureType.SWIPE_RIGHT, GestureState.COMPLETE, (0, 0, 1), hand_id=9, timestamp=self.n),)
+
+
+def test_gestures_completed_by_the_end_of_the_source_reach_the_effects():
+    recorder = Recorder()
+    _, metrics = run_show(SwipeAtTheEndBackend(5), [recorder])
+    assert recorder.events[-1] == (5, 9) and len(recorder.events) == 11
+    assert metrics.gestures_by_name == {"swipe_left": 10, "swipe_right": 1}

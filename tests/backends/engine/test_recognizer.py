@@ -177,3 +177,19 @@ def test_a_push_first_seen_on_its_way_is_a_click(seconds):
         hands = [h for h in hands if h.side is Side.RIGHT and torso_z - h.position[2] > 250]  # off the chest only
         events += recognizer.update(t, hands, body, True)
     assert completed(events) == ["click"]
+
+
+def test_a_swipe_at_the_very_end_of_a_stream_completes_when_the_stream_ends():
+    """A swipe is confirmed a quarter second after its stroke (nothing comparable followed); a clip
+    that stops sooner ends the performance, and `finish()` completes what was waiting, as a hand
+    leaving the view does."""
+    performance = c.swipe(travel=500, duration=0.5)
+    recognizer = GestureRecognizer(GestureRules())
+    events = []
+    for t, hands, body in performance.frames():
+        events += recognizer.update(t, hands, body, True)
+        if [e for e in events if e.state is GestureState.IN_PROGRESS]:
+            break  # the clip stops as the stroke ends
+    assert completed(events) == []
+    assert completed(recognizer.finish()) == ["swipe_left"]
+    assert recognizer.finish() == []  # once: then a new performance
