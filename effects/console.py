@@ -45,7 +45,7 @@ class ConsoleEffect(Effect):
             return
         seen = {}
         for hand in frame.hands:
-            if hand.state in (HandState.LOST, HandState.ABSENT):
+            if not hand.in_view:
                 continue
             seen[hand.id] = hand.state
             if hand.id not in self._known:

@@ -8,12 +8,11 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from effects.gl import Sprites
-from host import Effect, Frame, HandState, Stage
+from host import Effect, Frame, Stage
 from host.options import Color
 
 PALETTE: tuple[tuple[float, float, float], ...] = ((1.0, 0.25, 0.2), (0.2, 0.9, 0.3), (0.25, 0.5, 1.0),
                                                    (1.0, 0.85, 0.1), (0.9, 0.3, 1.0), (0.1, 0.9, 0.9))
-GONE = (HandState.LOST, HandState.ABSENT)
 
 
 class HandTrailsOptions(BaseModel):
@@ -40,7 +39,7 @@ class HandTrails(Effect):
             return
         seen = set()
         for hand in frame.hands:
-            if hand.state in GONE or hand.position[2] <= 0:
+            if not hand.in_view or hand.position[2] <= 0:
                 continue
             seen.add(hand.id)
             trail = self.trails.setdefault(hand.id, deque(maxlen=self.options.length))

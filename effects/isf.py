@@ -25,7 +25,7 @@ import moderngl
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from effects.gl import Offscreen, StageQuad
-from host import CANONICAL_GESTURES, DepthFrame, Effect, Frame, Gesture, GestureState, HandState, Side, Stage
+from host import CANONICAL_GESTURES, DepthFrame, Effect, Frame, Gesture, GestureState, Side, Stage
 from host.errors import UserError
 from host.options import ProfilePath
 
@@ -197,7 +197,7 @@ class Isf(Effect):
         if frame.depth is None:
             return
         self.depth = frame.depth
-        live = sorted((h for h in frame.hands if h.state not in (HandState.LOST, HandState.ABSENT)
+        live = sorted((h for h in frame.hands if h.in_view
                        and h.position[2] > 0), key=lambda h: h.id)
         self.count = len(live)
         self.hands = {}

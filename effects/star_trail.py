@@ -5,7 +5,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from effects.gl import Particles, Sprites
-from host import Effect, Frame, HandState, Stage
+from host import Effect, Frame, Stage
 from host.options import Color
 
 
@@ -37,7 +37,7 @@ class StarTrail(Effect):
         if frame.depth is None:
             return
         self.hands = {h.id: self.stage.to_stage(h.position, frame.depth) for h in frame.hands
-                      if h.state not in (HandState.LOST, HandState.ABSENT) and h.position[2] > 0}
+                      if h.in_view and h.position[2] > 0}
 
     def render(self, target) -> None:
         o, h = self.options, target.size[1]

@@ -10,9 +10,8 @@ arrive as they are tracked.
 from __future__ import annotations
 
 from host.contracts import Effect, Stage
-from host.model import Frame, Gesture, GestureState, GestureType, HandState, Vec3
+from host.model import Frame, Gesture, GestureState, GestureType, Vec3
 
-_GONE = (HandState.LOST, HandState.ABSENT)
 
 
 class SimpleOpenNIEffect(Effect):
@@ -42,7 +41,7 @@ class SimpleOpenNIEffect(Effect):
     # -- what the host calls -------------------------------------------------------------------
     def on_frame(self, frame: Frame) -> None:
         t = frame.timestamp
-        present = {h.id: h.position for h in frame.hands if h.state not in _GONE}
+        present = {h.id: h.position for h in frame.hands if h.in_view}
         for hand_id, pos in present.items():
             if hand_id in self._hands:
                 self.on_tracked_hand(hand_id, pos)

@@ -197,6 +197,12 @@ class Hand:
     def __post_init__(self) -> None:
         _plain_numbers(self)
 
+    @property
+    def in_view(self) -> bool:
+        """NEW, TRACKING or TOUCHING_FOV: where it is now. A LOST or ABSENT hand is gone (its
+        position is where it was last seen)."""
+        return self.state not in (HandState.LOST, HandState.ABSENT)
+
     def to_json(self) -> dict:
         return {"id": self.id, "state": self.state.value, "side": self.side.value,
                 "position": [round(c, 1) for c in self.position]}

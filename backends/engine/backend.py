@@ -132,7 +132,7 @@ class EngineBackend(Backend):
         for h in hands:
             if h.id not in self._focused:
                 continue
-            if h.state in (HandState.LOST, HandState.ABSENT):
+            if not h.in_view:
                 self._focused.discard(h.id)
                 self._shown.discard(h.id)
             elif h.id not in self._shown:
@@ -144,7 +144,7 @@ class EngineBackend(Backend):
     @staticmethod
     def _hand_at(hands: tuple[Hand, ...], g: Gesture) -> Hand | None:
         """The hand that made the gesture: by id, else the one nearest where it happened."""
-        live = [h for h in hands if h.state not in (HandState.LOST, HandState.ABSENT)]
+        live = [h for h in hands if h.in_view]
         for h in live:
             if h.id == g.hand_id:
                 return h

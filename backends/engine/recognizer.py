@@ -34,7 +34,7 @@ import numpy as np
 from backends.engine.body_reference import BodyReference
 from backends.engine.rules import GestureRules
 from backends.engine.strokes import X, Y, Z, AxisStrokes, Sample, Stroke
-from host import CANONICAL_GESTURES, Gesture, GestureState, GestureType, Hand, HandState, Vec3
+from host import CANONICAL_GESTURES, Gesture, GestureState, GestureType, Hand, Vec3
 
 #: The dictionaries of the engine's modes: canonical name -> the native type it is reported as.
 OPENISS_DICTIONARY: dict[str, GestureType] = {n: GestureType.from_canonical(n) for n in CANONICAL_GESTURES}
@@ -45,7 +45,6 @@ NUITRACK_DICTIONARY: dict[str, GestureType] = {
     "swipe_left": GestureType.SWIPE_LEFT, "swipe_right": GestureType.SWIPE_RIGHT,
     "swipe_up": GestureType.SWIPE_UP, "swipe_down": GestureType.SWIPE_DOWN}
 
-_GONE = (HandState.LOST, HandState.ABSENT)
 _HISTORY_S = 3.0  # how much of each hand's past is kept (longer than any gesture)
 
 
@@ -129,9 +128,9 @@ class GestureRecognizer:
         if t < self._last_t:  # the stream started again (a looping clip): a new performance
             self.reset()
         self._last_t, self._mirrored = t, mirrored
-        live = [h for h in hands if h.state not in _GONE]
+        live = [h for h in hands if h.in_view]
         events: list[Gesture] = []
-        gone = {h.id for h in hands if h.state in _GONE}
+        gone = {h.id for h in hands if not h.in_view}
         gone |= {i for i, tr in self._tracks.items() if t - tr.last_seen > self.rules.forget_after_s}
         for hid in gone:
             track = self._tracks.pop(hid, None)

@@ -38,7 +38,7 @@ class RestingHands:
                 return lost
             return ()
         self._user_seen = t
-        seen = {h.side: h for h in hands if h.state not in (HandState.LOST, HandState.ABSENT)}
+        seen = {h.side: h for h in hands if h.in_view}
         out = []
         for side, hand_id in SIDE_IDS.items():
             hand = seen.get(side)

@@ -14,7 +14,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from host import CANONICAL_GESTURES, Effect, Frame, Gesture, GestureState, HandState, Stage, Vec3
+from host import CANONICAL_GESTURES, Effect, Frame, Gesture, GestureState, Stage, Vec3
 from host.options import ProfilePath
 
 from effects.digieviss import lucid
@@ -113,7 +113,7 @@ class DigiEVISS(Effect):
 
     # -- input -------------------------------------------------------------------------------
     def on_frame(self, frame: Frame) -> None:
-        hands = {h.id: h.position for h in frame.hands if h.state not in (HandState.LOST, HandState.ABSENT)}
+        hands = {h.id: h.position for h in frame.hands if h.in_view}
         changed = self.scene.update(hands, frame.timestamp)
         self._flush_log()
         if changed:

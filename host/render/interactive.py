@@ -18,7 +18,7 @@ import numpy as np
 
 from host.assemble import make_backend
 from host.errors import UserError
-from host.model import Frame, HandState
+from host.model import Frame
 from host.profile import Profile
 from host.render.calibration import UNIT_SQUARE, check_keystone, homography
 from host.render.context import Window
@@ -49,7 +49,7 @@ class Session:
 
     def hand(self, frame: Frame | None, now: float) -> None:
         """Records a pair when the hand has stayed on the current target for HOLD_S."""
-        hands = [h for h in (frame.hands if frame else ()) if h.state not in (HandState.LOST, HandState.ABSENT)]
+        hands = [h for h in (frame.hands if frame else ()) if h.in_view]
         if not hands or frame.depth is None or self.target is None:
             self.held.clear()
             return

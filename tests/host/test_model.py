@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from host import DepthFrame, Gesture, GestureState, GestureType, Intrinsics, CANONICAL_GESTURES
+from host import CANONICAL_GESTURES, DepthFrame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics
 
 
 def test_depth_frame_owns_a_read_only_copy():
@@ -43,3 +43,9 @@ def test_gesture_event_line_has_the_design_keys():
     line = g.to_json()
     assert line["name"] == "click" and line["native"] == "PUSH" and line["state"] == "complete"
     assert set(line) == {"t", "type", "name", "native", "state", "hand", "side", "position", "confidence"}
+
+
+def test_a_hand_is_in_view_until_lost_or_absent():
+    states = {s: Hand(1, s, (0.0, 0.0, 1000.0)).in_view for s in HandState}
+    assert states == {HandState.NEW: True, HandState.TRACKING: True, HandState.TOUCHING_FOV: True,
+                      HandState.LOST: False, HandState.ABSENT: False}
