@@ -162,7 +162,8 @@ class DepthVariation:
 DEPTH_VARIATIONS = {
     "0.7 m farther": DepthVariation(farther_mm=700), "1.4 m farther": DepthVariation(farther_mm=1400),
     "0.85x size": DepthVariation(scale=0.85), "1.15x size": DepthVariation(scale=1.15),
-    "faster (0.7x time)": DepthVariation(tempo=1 / 0.7), "Kinect noise x2, 3 % holes": DepthVariation(kinect_noise=2, holes=0.03),
+    "faster (0.7x time)": DepthVariation(tempo=1 / 0.7),
+    "Kinect noise x2, 3 % holes": DepthVariation(kinect_noise=2, holes=0.03),
     "recording stops 0.4 s sooner": DepthVariation(ends_sooner_s=0.4),
 }
 
@@ -360,7 +361,8 @@ def main() -> None:
     figures["synthetic"] = synthetic(args.backend, PERFORMERS, with_tracker=not args.quick)
     figures["varied_trajectories"] = {name: real_trajectories(args.backend, v) for name, v in VARIATIONS.items()}
     if not args.quick:
-        figures["varied_clips"] = {name: real_clips(args.backend, args.clips, v) for name, v in DEPTH_VARIATIONS.items()}
+        figures["varied_clips"] = {name: real_clips(args.backend, args.clips, v)
+                                   for name, v in DEPTH_VARIATIONS.items()}
     rows = rows_of("real csv", figures["real_trajectories"]["gestures"])
     rows.append(["real csv", "false fires", _fmt(figures["real_trajectories"]["false_fire_rate"]),
                  "", "", "", ""])
@@ -377,7 +379,8 @@ def main() -> None:
     for kind, section in (("csv", "varied_trajectories"), ("depth", "varied_clips")):
         for name, fig in figures.get(section, {}).items():
             tp, fp, fn = (sum(f[k] for f in fig["gestures"].values()) for k in ("tp", "fp", "fn"))
-            recalls = " ".join(f"{g} {_fmt(f['recall'])}" for g, f in fig["gestures"].items() if f["recall"] is not None)
+            recalls = " ".join(f"{g} {_fmt(f['recall'])}" for g, f in fig["gestures"].items()
+                               if f["recall"] is not None)
             rows.append([f"{kind} {name}", f"false fires {_fmt(fig['false_fire_rate'])}", "",
                          _fmt(tp / (tp + fn) if tp + fn else None), recalls, f"{tp}/{fp}/{fn}", ""])
     report(f"gestures, backend {args.backend} (latency: COMPLETE - end of motion, s)", figures, rows,

@@ -1,6 +1,5 @@
 """The frame loop's promises: gestures exactly once and in order, newest frame wins,
 one failing effect is disabled and the others lose nothing, stop() is always called."""
-import os
 import signal
 import subprocess
 import sys
