@@ -9,7 +9,7 @@ import time
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from host import Backend, Frame, Vec3
+from host import Backend, Frame, Gesture, Vec3
 from host.options import ProfilePath
 from host.recording import Recording, shifted_frame
 
@@ -43,6 +43,10 @@ class ReplayBackend(Backend):
             self._pace(frame.timestamp + offset)
         self._last = shifted_frame(frame, offset, time.time())
         return self._last
+
+    def finish(self) -> tuple[Gesture, ...]:
+        """The gestures the end of the recorded source completed, as they were recorded."""
+        return self.recording.end_gestures
 
     def _pace(self, t: float) -> None:
         """Sleep until source time `t` is due, counted from the first frame played."""

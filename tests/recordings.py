@@ -24,12 +24,16 @@ def write_profile(path: Path, source: dict | None = None, backend: dict | None =
     return path
 
 
+def record_profile(profile: Path, out: Path, *limits: str) -> Path:
+    """`issv record` of a profile, as fast as possible."""
+    assert issv(["record", str(profile), "-o", str(out), *limits, "--fast"]) == 0
+    return out
+
+
 def record(tmp_path: Path, seconds: float = 4.0, name: str = "show.mcap", backend: str = "truth", **source) -> Path:
     """`issv record` of the synthetic performer tracked by `backend`, as fast as possible."""
     prof = write_profile(tmp_path / f"{name}.toml", {"name": "synthetic", **SYNTH, **source}, {"name": backend})
-    out = tmp_path / name
-    assert issv(["record", str(prof), "-o", str(out), "--seconds", str(seconds), "--fast"]) == 0
-    return out
+    return record_profile(prof, tmp_path / name, "--seconds", str(seconds))
 
 
 def tracked_live(seconds: float = 4.0, backend: str = "truth", **source) -> list[Frame]:

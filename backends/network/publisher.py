@@ -23,7 +23,7 @@ from dataclasses import dataclass, replace
 import zmq
 
 from backends.network import wire
-from host import DepthFrame, Frame
+from host import DepthFrame, Frame, Gesture
 from host.errors import UserError
 
 HEARTBEAT_S = 0.5
@@ -162,17 +162,27 @@ class Publisher:
         self._worker = _DepthWorker(self.depth, self.session, depth)
         self._worker.start()
         self._closed = False
+        self._last_seq = 0
 
     # -- per frame (sensor thread) -------------------------------------------------------------
+    def _send_gestures(self, gestures: tuple[Gesture, ...], capture_time: float, frame_seq: int) -> None:
+        for g in gestures:
+            self.seq["gestures"] += 1
+            self.events.send(wire.encode_gesture(self.session, self.seq["gestures"], capture_time, frame_seq, g))
+
+    def publish_end(self, gestures: tuple[Gesture, ...]) -> None:
+        """Gestures the end of the source completed: sent after the last frame, before the end."""
+        with self._lock:
+            if not self._closed:
+                self._send_gestures(gestures, time.time(), self._last_seq + 1)
+
     def publish(self, frame: Frame) -> None:
         with self._lock:
             if self._closed:
                 return
             self._subscriptions()
-            for g in frame.gestures:
-                self.seq["gestures"] += 1
-                self.events.send(wire.encode_gesture(self.session, self.seq["gestures"], frame.capture_time,
-                                                     frame.seq, g))
+            self._send_gestures(frame.gestures, frame.capture_time, frame.seq)
+            self._last_seq = frame.seq
             with_depth = self._depth_gate.admit(frame)
             self.seq["hands"] += 1
             self.events.send(wire.encode_hands(self.session, self.seq["hands"], frame.capture_time, frame.seq,

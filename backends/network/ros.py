@@ -183,20 +183,30 @@ class RosPublisher:
         self._last_status = 0.0
         self._depth_gate = DepthGate(depth)
         self._final: dict | None = None
+        self._last_seq = 0
 
     def _header(self, capture_time: float):
         import std_msgs.msg
         return std_msgs.msg.Header(stamp=_stamp(capture_time), frame_id=f"issv-{self.session:016x}")
 
+    def _send_gestures(self, gestures: tuple[Gesture, ...], capture_time: float, frame_seq: int) -> None:
+        import geometry_msgs.msg as gm
+        for g in gestures:
+            self.pubs["gestures"].publish(self.m["Gesture"](
+                header=self._header(capture_time), gesture_type=GESTURE_TYPES.index(g.type),
+                gesture_position=gm.Point(*g.position), gesture_state=GESTURE_STATES.index(g.state),
+                hand_id=g.hand_id, hand_side=SIDES.index(g.side), confidence=g.confidence,
+                source_time=g.timestamp, frame_seq=frame_seq))
+
+    def publish_end(self, gestures: tuple[Gesture, ...]) -> None:
+        """Gestures the end of the source completed: sent after the last frame, before the end."""
+        self._send_gestures(gestures, time.time(), self._last_seq + 1)
+
     def publish(self, frame: Frame) -> None:
         import geometry_msgs.msg as gm
         m = self.m
-        for g in frame.gestures:
-            self.pubs["gestures"].publish(m["Gesture"](
-                header=self._header(frame.capture_time), gesture_type=GESTURE_TYPES.index(g.type),
-                gesture_position=gm.Point(*g.position), gesture_state=GESTURE_STATES.index(g.state),
-                hand_id=g.hand_id, hand_side=SIDES.index(g.side), confidence=g.confidence,
-                source_time=g.timestamp, frame_seq=frame.seq))
+        self._send_gestures(frame.gestures, frame.capture_time, frame.seq)
+        self._last_seq = frame.seq
         depth = self._depth(frame)
         hands = [m["Hand"](hand_id=h.id, hand_state=h.state in (HandState.NEW, HandState.TRACKING),
                            hand_position=gm.Point(*h.position), hand_status=HAND_STATES.index(h.state),

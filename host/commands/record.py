@@ -55,7 +55,7 @@ def main(args: argparse.Namespace) -> int:
     source = prof.source.ref.name if prof.source is not None else ""
     writer = RecordingWriter(args.output, {"profile": str(prof.path), "backend": backend.name, "source": source})
     sink = RecordingSink(writer)
-    tap = SensorTap(backend, sink.frame, sink.finish)
+    tap = SensorTap(backend, sink.frame, closed=sink.finish, observe_end=writer.write_end_gestures)
     stage = make_stage(prof, backend)
     status = StatusLine()
     show = Show(tap, [], stage, pm=default_manager(), limits=Limits(args.frames, args.seconds), status=status)

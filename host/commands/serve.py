@@ -80,7 +80,7 @@ def main(args: argparse.Namespace) -> int:
     inner = make_backend(prof, realtime=not args.fast)
     publisher = make_publisher(args, inner.name)
     # Every frame the backend makes is published on the sensor thread, before newest-wins.
-    backend = SensorTap(inner, publisher.publish, publisher.close)
+    backend = SensorTap(inner, publisher.publish, closed=publisher.close, observe_end=publisher.publish_end)
     stage = make_stage(prof, inner)
     status = StatusLine(extra=lambda: published(publisher))
     show = Show(backend, [], stage, limits=Limits(args.frames, args.seconds), status=status)

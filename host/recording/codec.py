@@ -19,6 +19,7 @@ Channels (one per kind of data, so standard MCAP tools can filter them):
 
 Message log times are source time in nanoseconds (what `seek` uses); publish times are the host's
 wall clock at capture. A frame is: its depth message (if any), its gestures, then its hands.
+Gestures after the last frame's hands were completed by the end of the source (Backend.finish()).
 """
 from __future__ import annotations
 

@@ -23,7 +23,7 @@ from mcap.records import Channel, Chunk, Header, Message, Metadata
 from mcap.stream_reader import CRCValidationError, breakup_chunk
 
 from host.errors import UserError
-from host.model import DepthFrame, Frame
+from host.model import DepthFrame, Frame, Gesture
 from host.recording import codec
 
 MAGIC = b"\x89MCAP0\r\n"
@@ -48,6 +48,7 @@ class Recording:
     def __init__(self, path: str | Path, warn=None) -> None:
         self.path = Path(path)
         self._warn = warn or (lambda text: print(f"issv: {text}", file=sys.stderr))
+        self.end_gestures: tuple[Gesture, ...] = ()  # known once frames() has been read to the end
         try:
             self._file = open(self.path, "rb")
         except FileNotFoundError:
@@ -187,7 +188,9 @@ class Recording:
 
     # -- frames --------------------------------------------------------------------------------
     def frames(self, start: float = 0.0) -> Iterator[Frame]:
-        """Frames exactly as they were tracked: same seq, hands, gestures, source timestamps."""
+        """Frames exactly as they were tracked: same seq, hands, gestures, source timestamps. Once
+        they are all read, `end_gestures` holds the gestures after the last frame (the ones the
+        end of the source completed)."""
         depth: codec.DepthHeader | None = None
         decoded: DepthFrame | None = None
         gestures = []
@@ -207,6 +210,7 @@ class Recording:
                     yield Frame(int(doc["seq"]), float(doc["capture_time"]), frame_depth, hands,
                                 tuple(gestures), str(doc.get("backend", "")))
                     gestures = []
+        self.end_gestures = tuple(gestures)
 
     def depth_headers(self, start: float = 0.0) -> Iterator[tuple[codec.DepthHeader, int]]:
         """Each depth message's header, pixels still compressed, and the offset of its record."""

@@ -10,7 +10,7 @@ from mcap.writer import CompressionType, Writer
 
 from host import __version__
 from host.errors import UserError
-from host.model import DepthFrame, Frame
+from host.model import DepthFrame, Frame, Gesture
 from host.recording import codec
 
 # Small chunks, flushed at least once a second: a crash loses at most about a second of show.
@@ -41,6 +41,7 @@ class RecordingWriter:
         self._last_depth: DepthFrame | None = None
         self._last_flush = time.monotonic()
         self._t = 0  # log time (ns) of the last frame, for the metrics messages
+        self._seq = 0  # the last frame's seq
         self.frames = 0
         self.closed = False
 
@@ -64,11 +65,20 @@ class RecordingWriter:
                 self._add(codec.GESTURES, log_time, publish,
                           json.dumps(codec.gesture_to_json(gesture, frame.seq)).encode(), frame.seq)
             self._add(codec.HANDS, log_time, publish, json.dumps(codec.hands_to_json(frame)).encode(), frame.seq)
-            self._t = log_time
+            self._t, self._seq = log_time, frame.seq
             self.frames += 1
             if time.monotonic() - self._last_flush >= FLUSH_EVERY_S:
                 self._mcap.flush()
                 self._last_flush = time.monotonic()
+
+    def write_end_gestures(self, gestures: tuple[Gesture, ...]) -> None:
+        """Gestures the end of the source completed: after the last frame, carried by no frame."""
+        with self._lock:
+            if self.closed:
+                return
+            for gesture in gestures:
+                self._add(codec.GESTURES, self._t, codec.seconds_to_ns(time.time()),
+                          json.dumps(codec.gesture_to_json(gesture, self._seq + 1)).encode(), self._seq + 1)
 
     def write_metrics(self, doc: dict, final: bool = False) -> None:
         with self._lock:

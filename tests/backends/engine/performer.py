@@ -37,3 +37,11 @@ def write_clip(path: Path, depth_frames: list[DepthFrame]) -> Path:
              intrinsics=np.array(first.intrinsics.as_list()), mirrored=first.mirrored,
              hands=hands, hand_names=np.array(["left", "right"]))
     return path
+
+
+def swipe_cut_short(path: Path) -> Path:
+    """A clip of one swipe that stops while the swipe waits for its confirmation (the quarter second
+    in which a comparable stroke back would make it a wind-up): only the clip's end completes it."""
+    swipe = frames(SWIPE, background="none")
+    cut = max(i for i, f in enumerate(swipe) if f.truth.gestures) + 8  # the stroke's stop is seen 4-5 frames on
+    return write_clip(path, swipe[:cut])

@@ -16,7 +16,7 @@ from backends.engine.tracker import HandTracker, TrackerOptions
 from backends.engine.trunk import BodyOptions
 from host import DepthFrame, GestureState, GestureType, HandState, Intrinsics, Side, Source
 from host.plugins import default_registry
-from tests.backends.engine.performer import SWIPE, WAVE_THEN_REST, frames, write_clip
+from tests.backends.engine.performer import WAVE_THEN_REST, frames, swipe_cut_short, write_clip
 from tests.conftest import REAL_CLIPS
 
 NITE_TYPES = set(NITE_DICTIONARY.values())
@@ -230,15 +230,13 @@ def test_track_prints_a_hands_line_per_frame_and_the_gesture_events(clips, wave)
 
 
 def test_track_completes_a_swipe_the_clip_ends_on(tmp_path):
-    """A recording that stops while a swipe waits for its confirmation (the quarter second in which
-    a comparable stroke back would make it a wind-up): the event line comes after the last hands
-    line, when the clip's end completes it; one hands line per frame all the same."""
-    swipe = frames(SWIPE, background="none")
-    cut = max(i for i, f in enumerate(swipe) if f.truth.gestures) + 8  # the stroke's stop is seen 4-5 frames on
-    result = issv("track", str(write_clip(tmp_path / "cut.npz", swipe[:cut])))
+    """The event line of a swipe only the clip's end completes comes after the last hands line;
+    one hands line per frame all the same."""
+    clip = swipe_cut_short(tmp_path / "cut.npz")
+    result = issv("track", str(clip))
     assert result.returncode == 0, result.stderr
     lines = [json.loads(line) for line in result.stdout.splitlines()]
-    assert sum(e["type"] == "hands" for e in lines) == cut
+    assert sum(e["type"] == "hands" for e in lines) == len(np.load(clip)["depth"])
     done = [i for i, e in enumerate(lines) if e["type"] == "gesture" and e["state"] == "complete"]
     assert [lines[i]["name"] for i in done] == ["swipe_left"]
     assert done[0] == len(lines) - 1

@@ -13,6 +13,7 @@ import pytest
 
 from backends.network.backend import NetworkBackend, NetworkOptions
 from sources.clip import Clip
+from tests.backends.engine.performer import swipe_cut_short
 from tests.backends.network.conftest import CLIP, ROOT, clip_profile, free_ports
 
 
@@ -45,6 +46,16 @@ def test_frames_arrive_whole_depth_bit_exact(serve, tmp_path):
     server.proc.wait(timeout=20)  # it writes its stats after saying goodbye
     sent = json.loads(stats_file.read_text())
     assert sent["sent"]["hands"] == 76 and sent["compression"] > 1
+
+
+def test_a_swipe_the_clip_ends_on_arrives_before_the_stream_ends(serve, tmp_path):
+    """Only the end of the served clip completes the swipe: it still reaches the subscriber."""
+    port = free_ports()
+    clip = swipe_cut_short(tmp_path / "cut.npz")
+    serve(str(clip_profile(tmp_path, clip, loop=False, backend="openiss")), "--bind", f"tcp://127.0.0.1:{port}")
+    with subscriber(port, end_with_publisher=True, depth_wait_ms=500) as backend:
+        gestures = [g for f in iter(backend.update, None) for g in f.gestures]
+    assert [g.name for g in gestures if g.state.value == "complete"] == ["swipe_left"]
 
 
 BURST = textwrap.dedent("""
