@@ -86,11 +86,11 @@ class _HandTrack:
         since = last.seen_since if last is not None and t - last.t <= self.rules.track_gap_s else t
         ref = None
         for q in reversed(self.samples):
-            if q.seen_since != since:
-                break  # before a gap: where the hand went meanwhile is unknown, so no speed across it
+            if q.seen_since != since and ref is not None:
+                break  # measured within the hand's unbroken run of samples, not diluted across a gap
             ref = q
-            if t - q.t >= window:
-                break
+            if t - q.t >= window or q.seen_since != since:
+                break  # the first sample after a gap: the average speed across it, a lower bound
         v = (p - ref.p) / (t - ref.t) if ref is not None and t > ref.t else np.zeros(3)
         s = Sample(t, p, v, shoulder, head, world, body_vy, since)
         self.samples.append(s)

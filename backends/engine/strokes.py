@@ -81,7 +81,7 @@ class Stroke:
         first = fast[0]
         before = self.samples[first - 1] if first > 0 else None
         if before is not None and (self.samples[first].t - before.t > gap_s or before.t == before.seen_since):
-            first -= 1  # the fast motion began where the hand was last seen, or first seen (its speed unknown)
+            first -= 1  # the fast motion began where the hand was last seen, or seen again (no speed of its own)
         return Stroke(self.axis, self.direction, self.samples[first: fast[-1] + 1])
 
     @property

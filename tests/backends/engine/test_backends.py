@@ -152,18 +152,18 @@ CARRY = [{"action": "idle", "duration": 1.0}, {"action": "walk", "x_mm": 795.0},
          {"action": "walk", "x_mm": -805.0}, {"action": "click", "hand": "right"}, {"action": "idle", "duration": 0.5}]
 
 
-@pytest.mark.parametrize("other_arm_mm, held_by_right", [(100.0, True), (1e9, False)])
-def test_a_hand_out_of_sight_is_not_found_again_on_the_other_arm(other_arm_mm, held_by_right):
+@pytest.mark.parametrize("other_arm_mm, rule_on", [(100.0, True), (1e9, False)])
+def test_a_hand_out_of_sight_is_not_found_again_on_the_other_arm(other_arm_mm, rule_on):
     """DigiEVISS' carry: walking sideways with the arms low, then a click with the right hand. The
-    left hand, last seen swinging, must not be found again in the right hand rising for the click
-    (the track jumping arms once made its rise look like a swipe): the click is the right hand's.
-    With the rule off (1e9 mm) the left hand's track takes the right hand and the click with it."""
+    left hand, last seen swinging, must not be found again in the right hand rising for the click:
+    the click is the right hand's, and nothing swipes. With the rule off (1e9 mm) the left hand's
+    track takes the right hand and the click with it, and the tracks' jumps look like a swipe."""
     walk = frames(CARRY, seed=7)
     out = play(OpenISSBackend, walk, OpenISSBackend.Options(other_arm_mm=other_arm_mm))
     clicks = [g for g in completed(out) if g.name == "click"]
     assert clicks
-    assert all(g.side is Side.RIGHT for g in clicks) is held_by_right, [(g.hand_id, g.side) for g in clicks]
-    assert not any(g.name.startswith("swipe") for g in completed(out))
+    assert all(g.side is Side.RIGHT for g in clicks) is rule_on, [(g.hand_id, g.side) for g in clicks]
+    assert any(g.name.startswith("swipe") for g in completed(out)) is not rule_on
 
 
 def head_as_hand(depth_frames, options: TrackerOptions) -> int:

@@ -193,3 +193,24 @@ def test_a_swipe_at_the_very_end_of_a_stream_completes_when_the_stream_ends():
     assert completed(events) == []
     assert completed(recognizer.finish()) == ["swipe_left"]
     assert recognizer.finish() == []  # once: then a new performance
+
+
+PUSH_AFTER_GAP = (-217, -265, -353, -399, -443, -507, -538, -538, -540, -541, -540, -539, -540, -541, -540)
+PUSH_IN_GAP = (-493, -497, -498, -498, -497, -498, -498, -499, -498)
+
+
+@pytest.mark.parametrize("seen", [PUSH_AFTER_GAP, PUSH_IN_GAP], ids=["pushing-when-found", "pushed-unseen"])
+def test_a_push_across_a_tracking_gap_is_a_click(seen):
+    """A hand unseen for a moment (real depth at 4 m, two hands close together) comes back already
+    pushing, or already pushed: speeds are measured within what was seen after the gap, and the
+    first sample after it keeps the average speed across the gap (all that is known of it)."""
+    torso = (0.0, 0.0, 2500.0)
+    body = {"torso": torso, "head": (0.0, 520.0, 2500.0)}
+    before = [(i / 30, -206.0) for i in range(10)]  # held at the chest until 0.3 s
+    after = [(0.5 + i / 30, z) for i, z in enumerate(seen)]
+    recognizer = GestureRecognizer(GestureRules())
+    events = []
+    for t, z in before + after:
+        hand = Hand(2, HandState.TRACKING, (150.0, 300.0, torso[2] + z), Side.RIGHT)
+        events += recognizer.update(t, [hand], body, True)
+    assert completed(events) == ["click"]
