@@ -120,7 +120,11 @@ class NetworkBackend(Backend):
         waited = time.monotonic() - arrival >= self.options.depth_wait_ms / 1000
         if not (has_depth or waited or len(self._hands) > 1):
             return None
-        self._hands.popleft()
+        return self._oldest()
+
+    def _oldest(self) -> Frame:
+        """The oldest waiting hands message as a frame, named after the backend that made it."""
+        _, head = self._hands.popleft()
         self._backend = head.backend
         return self._frame(head.header.capture_time, head.hands)
 
@@ -133,8 +137,7 @@ class NetworkBackend(Backend):
     def _flush(self) -> Frame | None:
         """The publisher ended: deliver what is still waiting, then end the stream."""
         if self._hands:
-            _, head = self._hands.popleft()
-            return self._frame(head.header.capture_time, head.hands)
+            return self._oldest()
         if self._gestures:
             return self._frame(time.time(), ())
         return None

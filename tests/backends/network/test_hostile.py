@@ -85,3 +85,25 @@ def test_ten_thousand_hostile_messages_are_counted_and_the_show_goes_on(capsys):
     for kind in stats["malformed"]:
         assert err.count(f"further `{kind}` messages are counted") == 1
     assert stats["streams"]["hands"]["received"] == 1
+
+
+def test_a_frame_still_waiting_when_the_publisher_ends_keeps_its_backend_name():
+    """The last hands message waits for a depth image that never comes; the publisher's goodbye
+    flushes it, named after the backend that made it like every other frame."""
+    port = free_ports()
+    ctx = zmq.Context()
+    events, depth = ctx.socket(zmq.XPUB), ctx.socket(zmq.PUB)
+    events.bind(f"tcp://127.0.0.1:{port}")
+    depth.bind(f"tcp://127.0.0.1:{port + 1}")
+    options = NetworkOptions(connect=f"tcp://127.0.0.1:{port}", depth_wait_ms=1000, end_with_publisher=True)
+    hands = (Hand(3, HandState.TRACKING, (10.0, 20.0, 2000.0), Side.RIGHT),)
+    try:
+        with NetworkBackend(None, options) as backend:
+            assert events.poll(5000) and events.recv()[:1] == b"\x01"  # the subscriber has joined
+            events.send(wire.encode_hands(7, 1, time.time(), 1, 0.5, "remote", hands, True))
+            events.send(wire.encode_status(wire.BYE, 7, 1, {"hands": 1, "gestures": 0, "depth": 0}, "remote", 0,
+                                           time.time()))
+            frames = list(iter(backend.update, None))
+    finally:
+        ctx.destroy(linger=0)
+    assert [(f.hands, f.backend) for f in frames] == [(hands, "remote")]
