@@ -132,8 +132,8 @@ def run_backend(name: str, recording: Path, progress: Callable[[Show], None] | N
     start = time.perf_counter()
     try:
         backend = make(registry, name, recording)
-        show = Show(SensorTap(backend, run.observe, observe_end=run.gestures.extend), [], Stage((640, 480), OUTPUT_FPS, name),
-                    limits=Limits(), status=progress)
+        tap = SensorTap(backend, run.observe, observe_end=run.gestures.extend)
+        show = Show(tap, [], Stage((640, 480), OUTPUT_FPS, name), limits=Limits(), status=progress)
         metrics = show.run()
         if show.sensor_error is not None:
             raise show.sensor_error

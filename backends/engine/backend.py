@@ -102,22 +102,23 @@ class EngineBackend(Backend):
             hands = self._reported_hands(result.hands, gestures)
             if self._sides is not None:
                 hands = self._sides.present(depth.timestamp, hands, result.body, depth.mirrored)
-        if self._sides is not None:
-            gestures = [self._sides.gesture(g) for g in gestures]
         self._seq += 1
         return Frame(self._seq, depth.capture_time, depth, hands,
-                     tuple(gestures) if self.detecting_gestures else (), self.name,
+                     self._named(gestures) if self.detecting_gestures else (), self.name,
                      make_user_mask=lambda: result.full_mask(depth))
 
     def finish(self) -> tuple[Gesture, ...]:
         """The source ended: the recogniser's swipes still waiting to be confirmed complete."""
-        engine = getattr(self, "engine", None)
+        engine = getattr(self, "engine", None)  # absent while an SDK supplies the frames
         if engine is None or not self.detecting_gestures:
             return ()
-        gestures = engine.recognizer.finish()
-        if self._sides is not None:
-            gestures = [self._sides.gesture(g) for g in gestures]
-        return tuple(gestures)
+        return self._named(engine.recognizer.finish())
+
+    def _named(self, gestures: list[Gesture]) -> tuple[Gesture, ...]:
+        """The gestures, naming their hands as this mode's hands are named (Nuitrack: by side)."""
+        if self._sides is None:
+            return tuple(gestures)
+        return tuple(self._sides.gesture(g) for g in gestures)
 
     def _reported_hands(self, hands: tuple[Hand, ...], gestures: list[Gesture]) -> tuple[Hand, ...]:
         """All hands, or (focus mode) only those that made a focus gesture, NEW from that frame on."""
@@ -178,7 +179,9 @@ class OpenISSNiteBackend(EngineBackend):
     name = "openiss-nite"
     dictionary = NITE_DICTIONARY
     focus_gestures = frozenset({"wave", "click"})
-    note = "NiTE2 runtime not used: running the open engine in NiTE mode (wave, click, hand_raise; focus gestures)"
+    #: what runs in place of the middleware (the SDK adapter says it too when it falls back)
+    engine_mode = "the open engine in NiTE mode (wave, click, hand_raise; focus gestures)"
+    note = f"NiTE2 runtime not used: running {engine_mode}"
 
 
 class OpenISSNuitrackBackend(EngineBackend):
@@ -187,5 +190,7 @@ class OpenISSNuitrackBackend(EngineBackend):
     name = "openiss-nuitrack"
     dictionary = NUITRACK_DICTIONARY
     both_hands = True
-    note = ("Nuitrack runtime not used: running the open engine in Nuitrack mode (six gestures; a left and a "
-            "right hand while a user is in view, resting ones with confidence 0)")
+    #: what runs in place of the middleware (the SDK adapter says it too when it falls back)
+    engine_mode = ("the open engine in Nuitrack mode (six gestures; a left and a right hand while a user is "
+                   "in view, resting ones with confidence 0)")
+    note = f"Nuitrack runtime not used: running {engine_mode}"

@@ -177,23 +177,24 @@ class HandTracker:
         if not tracks or not found:
             return {}
         o = self.options
+        allowed: dict[tuple[int, int], float] = {}  # (track, candidate) -> distance, for pairs within gates
+        for i, tr in enumerate(tracks):
+            gate = o.match_slack_mm + o.max_speed_mm_s * min(t - tr.seen, o.match_max_gap_s)
+            for j, c in enumerate(found):
+                d = float(np.linalg.norm(tr.position - c.position))
+                if d <= gate and not self._other_arm(t, tr, c, torso, mirrored):
+                    allowed[i, j] = d
         best: dict = {}
         best_cost = None
-        small, large = (tracks, found) if len(tracks) <= len(found) else (found, tracks)
-        for perm in permutations(range(len(large)), len(small)):
-            pairs = {}
-            cost = 0.0
-            for i, j in enumerate(perm):
-                tr, c = (small[i], large[j]) if small is tracks else (large[j], small[i])
-                d = float(np.linalg.norm(tr.position - c.position))
-                gate = o.match_slack_mm + o.max_speed_mm_s * min(t - tr.seen, o.match_max_gap_s)
-                if d <= gate and not self._other_arm(t, tr, c, torso, mirrored):
-                    pairs[tr] = c
-                    cost += d
-                else:
-                    cost += 1e6  # an unmatched pair costs more than any match
+        tracks_first = len(tracks) <= len(found)
+        small, large = (len(tracks), len(found)) if tracks_first else (len(found), len(tracks))
+        for perm in permutations(range(large), small):
+            pairs = [(i, j) if tracks_first else (j, i) for i, j in enumerate(perm)]
+            # an unmatched pair costs more than any match
+            cost = sum(allowed.get(pair, 1e6) for pair in pairs)
             if best_cost is None or cost < best_cost:
-                best, best_cost = pairs, cost
+                best = {tracks[i]: found[j] for i, j in pairs if (i, j) in allowed}
+                best_cost = cost
         return best
 
     def _birth(self, t: float, cand: Candidate, side: Side) -> _Track:

@@ -87,9 +87,9 @@ class BodyEstimator:
             outline = core
         centre_x = float(np.median(g.x[core]))
         shoulder_y = float(np.percentile(g.y[outline], 98)) - o.shoulder_below_core_top_mm
-        above_spine = mask & (np.abs(g.x - centre_x) < o.head_radius_mm)
-        column = above_spine & (np.abs(g.z - ref) < o.plane_band_mm)
-        crown = self._crown(g.y, column, above_spine & (g.z <= ref - o.plane_band_mm), o.head_radius_mm)
+        spine_strip = mask & (np.abs(g.x - centre_x) < o.head_radius_mm)
+        column = spine_strip & (np.abs(g.z - ref) < o.plane_band_mm)
+        crown = self._crown(g.y, column, spine_strip & (g.z <= ref - o.plane_band_mm), o.head_radius_mm)
         if crown is not None:
             self._last_crown = (t, crown)
         elif self._last_crown is not None and t - self._last_crown[0] <= o.hidden_crown_hold_s:

@@ -36,6 +36,7 @@ import numpy as np
 import zstandard
 
 from host import DepthFrame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics, Side
+from host import compression
 
 MAGIC = b"ISSV"
 VERSION = 1
@@ -113,14 +114,9 @@ Message = DepthMsg | HandsMsg | GestureMsg | StatusMsg
 # default is plain zstd in bands (below); the alternatives stay selectable (`issv serve --codec`)
 # and measured.
 
-_contexts = threading.local()  # zstd contexts are not thread-safe, and costly to make per band
-
 
 def _zstd_in(data: bytes) -> bytes:
-    cctx = getattr(_contexts, "cctx", None)
-    if cctx is None:
-        cctx = _contexts.cctx = zstandard.ZstdCompressor(level=1)
-    return cctx.compress(data)
+    return compression.compressor().compress(data)
 
 
 def _delta(data: np.ndarray) -> np.ndarray:
@@ -146,11 +142,8 @@ def _unshuffle(raw: bytes, shape: tuple[int, int]) -> np.ndarray:
 
 
 def _zstd_out(payload: bytes, size: int) -> bytes:
-    dctx = getattr(_contexts, "dctx", None)
-    if dctx is None:
-        dctx = _contexts.dctx = zstandard.ZstdDecompressor()
     try:
-        out = dctx.decompress(payload, max_output_size=size)
+        out = compression.decompressor().decompress(payload, max_output_size=size)
     except zstandard.ZstdError as error:
         raise WireError("bad-depth", f"zstd: {error}") from None
     if len(out) != size:
@@ -225,6 +218,7 @@ def _undelta_shuffle(raw: bytes, shape: tuple[int, int]) -> np.ndarray:
 # under 1 % of the ratio; 32 K-pixel bands cost 3 % and a millisecond of depth latency.
 BAND_PIXELS = 1 << 16
 _BANDS = struct.Struct("<H")
+_TWO_CORES = (os.cpu_count() or 1) >= 2
 _band_pool: ThreadPoolExecutor | None = None
 _band_pool_lock = threading.Lock()
 
@@ -232,7 +226,7 @@ _band_pool_lock = threading.Lock()
 def _each_band(work: Callable[[int], T], count: int) -> list[T]:
     """work(0), ..., work(count - 1), in order; on two threads where there are two cores."""
     global _band_pool
-    if count < 2 or (os.cpu_count() or 1) < 2:
+    if count < 2 or not _TWO_CORES:
         return [work(i) for i in range(count)]
     with _band_pool_lock:
         if _band_pool is None:

@@ -70,8 +70,9 @@ class SdkBackend(EngineBackend):
 
     #: the middleware's name in messages ("NiTE2")
     sdk_name: ClassVar[str] = ""
-    #: what runs instead ("the open engine in NiTE mode (...)")
-    engine_mode: ClassVar[str] = ""
+    #: what runs instead ("the open engine in NiTE mode (...)"): the engine mode's own, which the
+    #: adapter also derives from (so no default here, where it would shadow the mode's)
+    engine_mode: ClassVar[str]
 
     @classmethod
     def sdk_missing(cls, options: BaseModel, source: Source | None) -> str | None:

@@ -210,7 +210,6 @@ class NiteBackend(SdkBackend, OpenISSNiteBackend):
 
     Options = NiteOptions
     sdk_name = "NiTE2"
-    engine_mode = "the open engine in NiTE mode (wave, click, hand_raise; focus gestures)"
 
     @classmethod
     def sdk_missing(cls, options: NiteOptions, source: Source | None) -> str | None:

@@ -222,7 +222,6 @@ class NuitrackBackend(SdkBackend, OpenISSNuitrackBackend):
 
     Options = NuitrackOptions
     sdk_name = "Nuitrack"
-    engine_mode = "the open engine in Nuitrack mode (six gestures, left and right hands)"
 
     @classmethod
     def sdk_missing(cls, options: NuitrackOptions, source: Source | None) -> str | None:

@@ -24,12 +24,12 @@ Gestures after the last frame's hands were completed by the end of the source (B
 from __future__ import annotations
 
 import json
-import threading
 from dataclasses import dataclass
 
 import numpy as np
 import zstandard
 
+from host import compression
 from host.model import (DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState,
                         Intrinsics, Side, Truth, TruthGesture)
 
@@ -68,8 +68,6 @@ SCHEMAS: dict[str, dict] = {
               "description": "the --metrics-json document of `issv run`, plus `final`"},
 }
 
-_local = threading.local()  # zstd contexts must not be shared between threads
-
 
 class FormatError(ValueError):
     """A message that does not follow issv-recording/1 (the reader adds the file and offset)."""
@@ -106,9 +104,8 @@ def encode_depth(depth: DepthFrame) -> bytes:
               "width": depth.width, "height": depth.height, "intrinsics": depth.intrinsics.as_list(),
               "mirrored": depth.mirrored, "truth": truth_to_json(depth.truth)}
     pixels = depth.data.astype("<u2", copy=False)  # C-contiguous (DepthFrame sees to it): zstd reads it in place
-    if not hasattr(_local, "zstd"):
-        _local.zstd = zstandard.ZstdCompressor(level=1)  # fastest: it runs on the sensor thread; level 3 saves ~2 %
-    return json.dumps(header).encode() + b"\n" + _local.zstd.compress(pixels)
+    # level 1, the fastest: this runs on the sensor thread; level 3 saves ~2 %
+    return json.dumps(header).encode() + b"\n" + compression.compressor().compress(pixels)
 
 
 @dataclass(frozen=True)
@@ -129,10 +126,8 @@ class DepthHeader:
     def decode(self) -> DepthFrame:
         d = self.doc
         w, h = int(d["width"]), int(d["height"])
-        if not hasattr(_local, "unzstd"):
-            _local.unzstd = zstandard.ZstdDecompressor()
         try:
-            raw = _local.unzstd.decompress(self.payload, max_output_size=w * h * 2)
+            raw = compression.decompressor().decompress(self.payload, max_output_size=w * h * 2)
         except zstandard.ZstdError as error:
             raise FormatError(f"depth frame {d['frame_id']}: its pixels do not decompress ({error})") from None
         if len(raw) != w * h * 2:
