@@ -138,6 +138,7 @@ class DepthVariation:
         """The frame's readings moved in the world and drawn again, nearer ones last (on top)."""
         v, u = np.nonzero(depth)
         z = depth[v, u].astype(np.float64)
+        magnified = self.scale * float(np.median(z) / (np.median(z) + self.farther_mm)) if z.size else 1.0
         if self.farther_mm or self.scale != 1.0:
             points = np.stack([(u - k.cx) * z / k.fx, (k.cy - v) * z / k.fy, z], axis=1)
             moved = self._move(points, spine)
@@ -152,7 +153,7 @@ class DepthVariation:
         order = np.argsort(-z[keep])
         u, v, z = u[keep][order], v[keep][order], np.clip(z[keep][order], 1, 65535).astype(np.uint16)
         out = np.zeros_like(depth)
-        spread = int(np.ceil(self.scale))  # a larger image: each reading covers more than one pixel
+        spread = int(np.ceil(magnified))  # a larger image: each reading covers more than one pixel
         for du in range(spread):
             for dv in range(spread):
                 out[np.minimum(v + dv, depth.shape[0] - 1), np.minimum(u + du, depth.shape[1] - 1)] = z

@@ -19,6 +19,7 @@ from typing import Any, Callable
 import pluggy
 
 from host.contracts import Backend, Effect, Source, Stage
+from host.errors import UserError
 from host.metrics import Metrics
 from host.model import DepthFrame, Frame, Gesture
 
@@ -103,6 +104,9 @@ class Limits:
     seconds: float | None = None
 
 
+MAX_FAILED_IN_A_ROW = 30  # a second of frames at 30 Hz: the backend is broken, not one frame
+
+
 class Show:
     """Runs one show: owns timing, metrics and lifecycle; plugins only answer when called."""
 
@@ -124,6 +128,7 @@ class Show:
         self._sensor_done = threading.Event()
         self._wake = threading.Event()  # set by the sensor: new data, deliver it now
         self.sensor_error: BaseException | None = None
+        self._failed_in_a_row = 0
 
     def request_stop(self) -> None:
         """Ctrl-C, SIGTERM or a window close: stop cleanly at the next frame."""
@@ -135,7 +140,9 @@ class Show:
         deadline = None if self.limits.seconds is None else time.time() + self.limits.seconds + 5.0
         try:
             while not self._stop.is_set():
-                frame = self.backend.update()
+                frame = self._next_frame()
+                if frame is False:
+                    continue
                 if frame is None:  # the source ended: what the backend was still confirming completes
                     self.gestures.put_all(self.backend.finish())
                     break
@@ -154,6 +161,27 @@ class Show:
         finally:
             self._sensor_done.set()
             self._wake.set()
+
+    def _next_frame(self) -> Frame | None | bool:
+        """The backend's next frame; False when it raised on this one. A backend that fails on a
+        frame (an odd depth image) loses that frame and the show goes on; one that fails on
+        `MAX_FAILED_IN_A_ROW` frames in a row, or reports a damaged input (UserError), ends it."""
+        try:
+            frame = self.backend.update()
+        except UserError:
+            raise
+        except Exception as error:
+            self._failed_in_a_row += 1
+            self.metrics.failed += 1
+            if self._failed_in_a_row >= MAX_FAILED_IN_A_ROW:
+                raise
+            if self.metrics.failed == 1:
+                print(f"issv: backend {self.backend.name!r} raised {type(error).__name__} on a frame: {error}; "
+                      "the frame is skipped and the show goes on (failed frames are counted in the summary)",
+                      file=sys.stderr, flush=True)
+            return False
+        self._failed_in_a_row = 0
+        return frame
 
     # -- show loop -----------------------------------------------------------------------------
     def _call(self, slot: EffectSlot, phase: str, *args: Any) -> None:

@@ -30,6 +30,7 @@ class Metrics:
     frames: int = 0
     rendered: int = 0
     dropped: int = 0
+    failed: int = 0  # frames the backend raised on (skipped; the show went on)
     gestures_by_name: Counter = field(default_factory=Counter)
     latencies_ms: array = field(default_factory=lambda: array("d"))
     _first_frame: float | None = None

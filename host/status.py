@@ -58,6 +58,8 @@ def summary(m: Metrics) -> None:
     lat = d["latency_ms"]
     table.add_row("capture -> effect latency", f"p50 {lat['p50']:.2f} ms  p95 {lat['p95']:.2f} ms  p99 {lat['p99']:.2f} ms")
     table.add_row("dropped frames (newest wins)", str(d["dropped"]))
+    if m.failed:  # not in the JSON document: its keys are an interface
+        table.add_row("frames the backend failed on (skipped)", str(m.failed))
     by_name = ", ".join(f"{k} {v}" for k, v in d["gestures_by_name"].items()) or "none"
     table.add_row("gestures completed", f"{d['gestures']} ({by_name})")
     stderr.print(table)

@@ -18,7 +18,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.trunk import Body
-from backends.engine.segmentation import Segment
+from backends.engine.segmentation import ONE_CELL_GAP, Segment
 
 
 class HandOptions(BaseModel):
@@ -71,7 +71,10 @@ class HandDetector:
         cand = seg.mask & extended & (g.y > body.hip_y)
         if not cand.any():
             return []
-        count, labels = cv2.connectedComponents(cand.view(np.uint8), connectivity=8)
+        # One-cell gaps (dropped readings) do not cut an arm in two; the gap cells stay out of it.
+        bridged = cv2.morphologyEx(cand.view(np.uint8), cv2.MORPH_CLOSE, ONE_CELL_GAP)
+        count, labels = cv2.connectedComponents(bridged, connectivity=8)
+        labels[~cand] = 0
         attached = self._attached(cand, seg.mask & ~cand, g.z)
         neck = np.array([tx, body.shoulder_y, body.torso[2]])
         h, w = g.shape

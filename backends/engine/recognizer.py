@@ -9,7 +9,8 @@ matched against the rules (rules.py):
   rest and the body steady. It completes `swipe_confirm_s` after it ends unless a comparable
   stroke the other way follows: then it was a wind-up (the larger stroke wins) or part of a
   back-and-forth (neither is a swipe); the third of alternating strokes is a wave's, never a
-  swipe. If the hand leaves the view meanwhile, the swipe completes.
+  swipe. If the hand leaves the view meanwhile, the swipe completes, except a swipe down: a hand
+  lost after a stroke down went back to rest.
 - WAVE: several direction reversals of horizontal strokes, each large and quick enough, with
   the hand near or above the shoulders.
 - CLICK (PUSH): a fast stroke towards the camera with the hand up, after which the hand halts
@@ -135,7 +136,9 @@ class GestureRecognizer:
         for hid in gone:
             track = self._tracks.pop(hid, None)
             if track is not None:  # a swipe just before the hand left the view still counts
-                _Hand(self, track, track.hand, t, mirrored, events, self._tracks).flush()
+                judge = _Hand(self, track, track.hand, t, mirrored, events, self._tracks)
+                judge.vanished()
+                judge.flush()
         frame = self._body.update(t, {h.id: np.asarray(h.position, float) for h in live}, body or {})
         for h in live:
             track = self._tracks.get(h.id)
@@ -148,7 +151,9 @@ class GestureRecognizer:
         seen = {h.id for h in live}
         for hid, track in self._tracks.items():
             if hid not in seen:  # unseen this frame: its pending swipes still come due
-                _Hand(self, track, track.hand, t, mirrored, events, self._tracks).resolve_all()
+                judge = _Hand(self, track, track.hand, t, mirrored, events, self._tracks)
+                judge.vanished()
+                judge.resolve_all()
         return events
 
     def finish(self) -> list[Gesture]:
@@ -212,6 +217,13 @@ class _Hand:
     def resolve_all(self) -> None:
         for axis in (X, Y):
             self.resolve_pending(axis)
+
+    def vanished(self) -> None:
+        """The hand is not reported: a stroke down waiting to be confirmed was the arm going back to
+        rest, where a depth tracker loses the hand in the body, not a swipe down."""
+        pending = self.tr.pending.get(Y)
+        if pending is not None and pending.direction < 0:
+            del self.tr.pending[Y]
 
     def flush(self) -> None:
         """The hand is gone: its pending swipes are complete (nothing followed them)."""

@@ -17,6 +17,8 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from host import DepthFrame
 
+ONE_CELL_GAP = cv2.getStructuringElement(cv2.MORPH_CROSS, (3, 3))  # closing with it bridges a missing cell
+
 
 class SegmentationOptions(BaseModel):
     """Physical limits of what counts as a person (mm, m^2) and of the sensor's useful range."""
@@ -152,9 +154,15 @@ class Segmenter:
     def _surfaces(self, g: Grid, valid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Connected surfaces: 4-neighbours whose depths differ by less than the edge threshold.
 
-        Only the far side of a jump is cut, so the near surface (the user) keeps its outline.
+        Only the far side of a jump is cut, so the near surface (the user) keeps its outline. A cell
+        without a reading between two with readings (a sensor's dropped reading, a row lost in
+        rescaling) bridges them at the farther one's depth, so a line of holes does not cut a person
+        in two; bridges join surfaces but are not part of them.
         """
         z = np.where(valid, g.z, 0)
+        bridge = ~valid & cv2.morphologyEx(valid.view(np.uint8), cv2.MORPH_CLOSE, ONE_CELL_GAP).view(bool)
+        z = np.where(bridge, cv2.dilate(z, ONE_CELL_GAP), z)
+        valid = valid | bridge
         thr = self.options.edge_mm + self.options.edge_ratio * z
         keep = valid.copy()
         dx = z[:, 1:] - z[:, :-1]
@@ -166,6 +174,7 @@ class Segmenter:
         keep[1:, :] &= ~(both_y & (dy > thr[:-1, :]))
         keep[:-1, :] &= ~(both_y & (-dy > thr[1:, :]))
         _, labels, stats, _ = cv2.connectedComponentsWithStats(keep.view(np.uint8), connectivity=4)
+        labels[bridge] = 0
         return labels, stats
 
     def _with_rim(self, g: Grid, mask: np.ndarray, cut: np.ndarray) -> np.ndarray:
@@ -183,7 +192,7 @@ class Segmenter:
         flat = labels.ravel()
         area = np.bincount(flat, weights=g.pixel_area_mm2.ravel(), minlength=count)
         area[0] = 0
-        n = np.maximum(stats[:, cv2.CC_STAT_AREA], 1)  # cells per surface
+        n = np.maximum(np.bincount(flat, minlength=count), 1)  # cells per surface (with readings)
         mean = [np.bincount(flat, weights=c.ravel(), minlength=count) / n for c in (g.x, g.y, g.z)]
         zz = np.bincount(flat, weights=(g.z.astype(np.float64) ** 2).ravel(), minlength=count) / n
         spread = np.sqrt(np.maximum(zz - mean[2] ** 2, 0))

@@ -99,8 +99,13 @@ class BodyEstimator:
         trunk = core & (g.y > shoulder_y - o.trunk_height_mm) & (g.y < shoulder_y)
         if not trunk.any():
             trunk = core
-        tx, shoulder_y, surface = self._frame(t, np.array([np.median(g.x[trunk]), shoulder_y,
-                                                           np.median(g.z[trunk])]))
+        # The spine's x from the trunk as the camera sees its outline, whatever lies in front of it
+        # (each cell's ray at the trunk's depth): an arm across the chest hides part of the trunk
+        # and would pull the middle of what is left away from the spine.
+        seen = self._open(mask & (g.z < ref + o.plane_band_mm), kernel)
+        seen = seen & (g.y > shoulder_y - o.trunk_height_mm) & (g.y < shoulder_y) | trunk
+        tx = float(np.median(g.x[seen] / g.z[seen])) * ref
+        tx, shoulder_y, surface = self._frame(t, np.array([tx, shoulder_y, np.median(g.z[trunk])]))
         self._surface_z = surface
         torso = np.array([tx, shoulder_y - o.spine_below_shoulder_mm, surface + o.joint_depth_mm])
         head_cells = column & (g.y > shoulder_y + 100)
@@ -131,7 +136,8 @@ class BodyEstimator:
 
     @staticmethod
     def _open(mask: np.ndarray, kernel: np.ndarray) -> np.ndarray:
-        """What remains of `mask` after removing everything thinner than the kernel; one-cell holes
-        (missing readings, the shadow a depth sensor casts beside an arm) are filled first."""
+        """The cells of `mask` that remain after removing everything thinner than the kernel.
+        One-cell holes (missing readings, the shadow a depth sensor casts beside an arm) are
+        filled for the shape but left out of the result: they have no depth to take a median of."""
         filled = cv2.morphologyEx(mask.view(np.uint8), cv2.MORPH_CLOSE, _HOLE)
-        return cv2.morphologyEx(filled, cv2.MORPH_OPEN, kernel).view(bool)
+        return cv2.morphologyEx(filled, cv2.MORPH_OPEN, kernel).view(bool) & mask

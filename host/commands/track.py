@@ -40,9 +40,11 @@ def track(clip: Path, backend_cls, source_cls, tag: str | None, out) -> None:
     source = source_cls(source_cls.Options(path=str(clip)))
     backend = backend_cls(source, backend_cls.Options())
     extra = {"clip": tag} if tag is not None else {}
+    frames = 0
     try:
         with backend:
             while (frame := backend.update()) is not None:
+                frames += 1
                 out.write(json.dumps({**frame.hands_json(), **extra}) + "\n")
                 for gesture in frame.gestures:
                     out.write(json.dumps({**gesture.to_json(), **extra}) + "\n")
@@ -50,6 +52,11 @@ def track(clip: Path, backend_cls, source_cls, tag: str | None, out) -> None:
                 out.write(json.dumps({**gesture.to_json(), **extra}) + "\n")
     except PluginUnavailable as error:
         raise UserError(f"backend {backend_cls.name!r}: {error}") from None
+    except UserError:
+        raise
+    except Exception as error:  # a bug met on this clip: say where, so it can be replayed
+        raise UserError(f"backend {backend_cls.name!r} raised {type(error).__name__} on frame {frames + 1} of "
+                        f"{clip}: {error} (a bug: please report it with that clip)") from error
 
 
 def main(args: argparse.Namespace) -> int:

@@ -8,7 +8,7 @@ import time
 import numpy as np
 
 from host import Backend, DepthFrame, Effect, Frame, Gesture, GestureState, GestureType, Intrinsics, Stage
-from host.loop import EffectSlot, Limits, Show
+from host.loop import MAX_FAILED_IN_A_ROW, EffectSlot, Limits, Show
 
 K = Intrinsics(100, 100, 8, 6)
 
@@ -83,6 +83,38 @@ def test_a_raising_effect_is_disabled_and_the_others_lose_nothing(capsys):
     assert not show.effects[0].enabled and show.effects[1].enabled
     assert broken.frames == [1, 2] or broken.frames[-1] < 3
     assert len(healthy.events) == 60 and healthy.frames[-1] == 30
+
+
+class FlakyBackend(BurstBackend):
+    """Raises on the frames numbered in `bad` (odd depth images), and on every frame from
+    `broken_from` on (a backend that is broken, not one frame)."""
+
+    def __init__(self, n, bad=(), broken_from=float("inf")):
+        super().__init__(n)
+        self.bad, self.broken_from = set(bad), broken_from
+
+    def update(self):
+        frame = super().update()
+        if frame is not None and (frame.seq in self.bad or frame.seq >= self.broken_from):
+            raise ValueError(f"odd frame {frame.seq}")
+        return frame
+
+
+def test_a_backend_failing_on_a_few_frames_loses_only_those(capsys):
+    recorder = Recorder()
+    show, metrics = run_show(FlakyBackend(30, bad={5, 6, 20}), [recorder], fps=500)
+    err = capsys.readouterr().err
+    assert show.sensor_error is None and show.backend.stopped
+    assert metrics.frames == 27 and metrics.failed == 3
+    assert [i for i, _ in recorder.events[::2]] == [i for i in range(1, 31) if i not in {5, 6, 20}]
+    assert err.count("backend 'burst' raised ValueError on a frame: odd frame 5") == 1
+    assert "the show goes on" in err and "odd frame 6" not in err
+
+
+def test_a_backend_failing_frame_after_frame_ends_the_show():
+    show, metrics = run_show(FlakyBackend(10_000, broken_from=10), [Recorder()], fps=500)
+    assert isinstance(show.sensor_error, ValueError) and show.backend.stopped
+    assert metrics.frames == 9 and metrics.failed == MAX_FAILED_IN_A_ROW
 
 
 def test_frame_limit_stops_the_show_and_calls_stop():

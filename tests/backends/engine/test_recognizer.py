@@ -8,6 +8,7 @@ from backends.engine.recognizer import NITE_DICTIONARY, NUITRACK_DICTIONARY, Ges
 from backends.engine.rules import GestureRules
 from host import Gesture, GestureState, GestureType, Hand, HandState, Side
 from tests.backends.engine import choreography as c
+from tests.backends.engine.choreography import RAISED
 
 
 def perform(performance: c.Performance, rules: GestureRules | None = None, dictionary=None,
@@ -162,6 +163,23 @@ def test_a_hand_found_mid_rise_or_lost_mid_drop_is_no_vertical_swipe():
         hands = [h for h in hands if h.side is Side.RIGHT and h.position[1] - torso_y > 0]  # off the body only
         events += recognizer.update(t, hands, body, True)
     assert not [n for n in completed(events) if n.startswith("swipe")]
+
+
+@pytest.mark.parametrize("vanishes", [False, True])
+def test_a_hand_lost_while_its_swipe_down_waits_went_back_to_rest(vanishes):
+    """A fast drop from the shoulder that stops at the belly is a swipe down while the hand stays
+    in view; a depth tracker that loses the hand before the swipe is confirmed (the hand merged
+    with the body, so it went on down to rest) saw the arm dropping, not a swipe."""
+    low = (RAISED[0], -130.0, RAISED[2])  # above a hanging hand's height: the rule on height passes
+    right = c.rest(Side.RIGHT).hold(0.3).then(0.6, RAISED).hold(0.3).then(0.35, low).hold(0.6)
+    performance = c.Performance({Side.LEFT: c.rest(Side.LEFT), Side.RIGHT: right}, right.end)
+    stroke_end = 1.55
+    recognizer, events = GestureRecognizer(GestureRules()), []
+    for t, hands, body in performance.frames():
+        if vanishes and t > stroke_end + 0.18:  # after the stroke ended, before its confirmation
+            hands = [h for h in hands if h.side is not Side.RIGHT]
+        events += recognizer.update(t, hands, body, True)
+    assert completed(events) == ([] if vanishes else ["swipe_down"])
 
 
 @pytest.mark.parametrize("seconds", [0.15, 0.25])

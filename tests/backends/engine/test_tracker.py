@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from backends.engine.geometry import KINECT_V1, to_geometry
+from backends.engine.segmentation import SegmentationOptions
 from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
 from backends.engine.tracker import HandTracker, TrackerOptions
 from host import DepthFrame, HandState, Intrinsics, Side
@@ -220,3 +221,19 @@ def test_a_forearm_across_the_face_does_not_move_the_body(covered):
         torso.append(tracker.process(replace(f, data=data)).body["torso"][1])
     before, during = np.array(torso[: len(torso) // 2]), np.array(torso[len(torso) // 2:])
     assert abs(float(np.median(during) - np.median(before))) < 25
+
+
+
+@pytest.mark.parametrize("lost, period", [("rows", 4), ("columns", 4), ("rows", 2)])
+def test_lines_of_missing_readings_do_not_cut_the_user_apart(wave, lost, period):
+    """Every fourth or second row (or column) of the internal grid without readings, as a rescaled or
+    interlaced source gives: the user is still one surface, with the body where it is."""
+    step = 640 // SegmentationOptions().grid_width
+    v, u = np.indices(wave[0].data.shape) // step
+    holes = (v if lost == "rows" else u) % period == period - 1
+    sparse = [replace(f, data=np.where(holes, 0, f.data).astype(np.uint16)) for f in wave[:30]]
+    results = run(sparse)
+    assert all(r.body for r in results)
+    for r, f in zip(results, sparse):
+        assert np.linalg.norm(np.subtract(r.body["torso"], f.truth.body["torso"])) < 150
+    assert sum(bool(r.hands) for r, f in zip(results, sparse) if waving(f)) > 0.8 * sum(waving(f) for f in sparse)
