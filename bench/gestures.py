@@ -40,6 +40,7 @@ from host.plugins import default_registry
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "utd-mhad-dev"
 POSITIVE = {"swipe_left": "swipe_left", "swipe_right": "swipe_right", "wave": "wave", "push": "click"}
+MIRROR_IMAGE = {"swipe_left": "swipe_right", "swipe_right": "swipe_left"}
 NEGATIVE = {"clap", "arm_curl", "jog", "walk", "sit2stand", "stand2sit", "lunge", "squat"}
 SECTION = {"recogniser": "synth truth", "backend": "synth depth"}  # the recogniser on truth hands; the backend on depth
 MATCH_AFTER_S = 1.0  # a COMPLETE up to this long after a truth interval's end still matches it
@@ -111,11 +112,18 @@ class DepthVariation:
     """How an unseen performer's depth may differ from the dev pair's, made from a real clip."""
 
     farther_mm: float = 0.0  # every reading re-projected this much farther away (a smaller image)
+    aside_mm: float = 0.0  # and this much to the image's right: a performer off the camera's axis
     scale: float = 1.0  # a smaller or taller performer: every reading scaled about the spine joint
-    tempo: float = 1.0  # < 1: the same performance, faster (frames skipped at the same frame rate)
+    tempo: float = 1.0  # > 1: the same performance, faster (frames skipped at the same frame rate)
+    stretch: float = 1.0  # > 1: the same frames over a longer time (slower, seen at a lower frame rate)
+    left_handed: bool = False  # the mirror image: the other arm does it, swipes go the other way
     kinect_noise: float = 0.0  # extra depth noise, in units of a Kinect v1's (sigma = 1.425e-6 z^2 mm)
     holes: float = 0.0  # share of readings dropped
     ends_sooner_s: float = 0.0  # the recording stops this much earlier after the action
+
+    def label(self, label: str) -> str:
+        """The action as this performer performs it (a mirror image swipes the other way)."""
+        return MIRROR_IMAGE.get(label, label) if self.left_handed else label
 
     def apply(self, clip, rng: np.random.Generator) -> dict[str, np.ndarray]:
         """The clip's arrays (DESIGN.md's depth clip format) as this performer would give them."""
@@ -124,24 +132,31 @@ class DepthVariation:
         k = clip.intrinsics
         spines = clip.body[:, 1] if clip.body is not None else np.zeros((len(clip), 3))
         depth = np.stack([self._frame(clip.depth[i], k, spines[i], rng) for i in index])
-        out = {"depth": depth, "timestamps": np.arange(len(index)) / clip.fps, "mirrored": clip.mirrored,
-               "intrinsics": np.array([k.fx, k.fy, k.cx, k.cy]), "label": clip.label}
+        out = {"depth": depth, "timestamps": np.arange(len(index)) * self.stretch / clip.fps,
+               "mirrored": clip.mirrored, "intrinsics": np.array([k.fx, k.fy, k.cx, k.cy]),
+               "label": self.label(clip.label)}
         if clip.hands is not None and clip.body is not None:
-            out |= {"hands": self._move(clip.hands[index], spines[index, None]),
-                    "body": self._move(clip.body[index], spines[index, None])}
+            hands, body = (self._move(points[index], spines[index, None], k, depth.shape[2])
+                           for points in (clip.hands, clip.body))
+            if self.left_handed:  # the performer's sides trade places: [left, right]; head, spine, shoulders
+                hands, body = hands[:, ::-1], body[:, [0, 1, 3, 2]]
+            out |= {"hands": hands, "body": body}
         return out
 
-    def _move(self, points: np.ndarray, spine: np.ndarray) -> np.ndarray:
-        return spine + self.scale * (points - spine) + np.array([0.0, 0.0, self.farther_mm])
+    def _move(self, points: np.ndarray, spine: np.ndarray, k, width: int) -> np.ndarray:
+        moved = spine + self.scale * (points - spine) + np.array([self.aside_mm, 0.0, self.farther_mm])
+        if self.left_handed:  # the image flipped left to right: column u goes to width - 1 - u
+            moved[..., 0] = (width - 1 - 2 * k.cx) * moved[..., 2] / k.fx - moved[..., 0]
+        return moved
 
     def _frame(self, depth: np.ndarray, k, spine: np.ndarray, rng: np.random.Generator) -> np.ndarray:
         """The frame's readings moved in the world and drawn again, nearer ones last (on top)."""
         v, u = np.nonzero(depth)
         z = depth[v, u].astype(np.float64)
         magnified = self.scale * float(np.median(z) / (np.median(z) + self.farther_mm)) if z.size else 1.0
-        if self.farther_mm or self.scale != 1.0:
+        if self.farther_mm or self.aside_mm or self.scale != 1.0 or self.left_handed:
             points = np.stack([(u - k.cx) * z / k.fx, (k.cy - v) * z / k.fy, z], axis=1)
-            moved = self._move(points, spine)
+            moved = self._move(points, spine, k, depth.shape[1])
             z = moved[:, 2]
             u = np.round(k.cx + moved[:, 0] * k.fx / z).astype(int)
             v = np.round(k.cy - moved[:, 1] * k.fy / z).astype(int)
@@ -163,7 +178,10 @@ class DepthVariation:
 DEPTH_VARIATIONS = {
     "0.7 m farther": DepthVariation(farther_mm=700), "1.4 m farther": DepthVariation(farther_mm=1400),
     "0.85x size": DepthVariation(scale=0.85), "1.15x size": DepthVariation(scale=1.15),
+    "0.5 m off the camera's axis": DepthVariation(aside_mm=500),
     "faster (0.7x time)": DepthVariation(tempo=1 / 0.7),
+    "slower (1.4x time, 21 fps)": DepthVariation(stretch=1.4),
+    "left-handed (mirror image)": DepthVariation(left_handed=True),
     "Kinect noise x2, 3 % holes": DepthVariation(kinect_noise=2, holes=0.03),
     "recording stops 0.4 s sooner": DepthVariation(ends_sooner_s=0.4),
 }
@@ -252,7 +270,7 @@ def real_clips(backend: str, limit: int | None, variation: DepthVariation | None
     rng = np.random.default_rng(0)
     with tempfile.TemporaryDirectory() as scratch:
         for path in files:
-            labels[path] = label_of(path)
+            labels[path] = variation.label(label_of(path)) if variation is not None else label_of(path)
             played = path
             if variation is not None:  # a real file, as an unseen clip would be
                 played = os.path.join(scratch, "varied.npz")

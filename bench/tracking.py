@@ -10,6 +10,10 @@
     (the skeleton's hands lie nearest the depth surface two frames later), so the error is also
     given against the skeleton interpolated 1.5 frames back ("aligned"): that is the tracker's own
     error; the plain figure is what score.py measures.
+(c) what that lead costs any tracker that sees the depth: the skeleton itself, 1.5 frames late,
+    scored against itself in the same way, held where it was ("skeleton 1.5 frames late") and
+    extrapolated at its own last velocity ("... extrapolated"): what perfect hands, seen when the
+    depth shows them, would score.
 """
 from __future__ import annotations
 
@@ -73,8 +77,6 @@ def extended(p: np.ndarray, body: np.ndarray) -> bool:
 def hand_errors(cls: type[EngineBackend], files: list[str]) -> dict[str, list[float]]:
     """Distances (mm) from extended skeleton hands to the nearest reported hand, plain and aligned."""
     out = {"plain": [], "aligned": [], "missed_plain": 0, "missed_aligned": 0}
-    a = int(SKELETON_LEAD_FRAMES)
-    frac = SKELETON_LEAD_FRAMES - a
     for path in files:
         clip = Clip(path)
         tracker = cls().build_engine().tracker
@@ -84,11 +86,10 @@ def hand_errors(cls: type[EngineBackend], files: list[str]) -> dict[str, list[fl
                 frame = to_geometry(frame, *cls.geometry)
             result = tracker.process(frame)
             reported = [np.array(h.position) for h in result.hands if h.state.value != "lost"]
-            back0, back1 = max(i - a, 0), max(i - a - 1, 0)
+            back = max(i - SKELETON_LEAD_FRAMES, 0.0)
             for kind, hands, body in (
                     ("plain", clip.hands[i], clip.body[i]),
-                    ("aligned", clip.hands[back0] * (1 - frac) + clip.hands[back1] * frac,
-                     clip.body[back0] * (1 - frac) + clip.body[back1] * frac)):
+                    ("aligned", skeleton_at(clip.hands, back), skeleton_at(clip.body, back))):
                 for p in hands:
                     if not np.all(np.isfinite(p)) or not extended(p, body):
                         continue
@@ -98,6 +99,42 @@ def hand_errors(cls: type[EngineBackend], files: list[str]) -> dict[str, list[fl
                     else:
                         out[f"missed_{kind}"] += 1
     return out
+
+
+def skeleton_at(points: np.ndarray, t: float) -> np.ndarray:
+    """The skeleton's points at fractional frame `t`, interpolated between its frames."""
+    i = int(np.floor(t))
+    frac = t - i
+    return points[i] * (1 - frac) + points[min(i + 1, len(points) - 1)] * frac
+
+
+def late_skeleton_errors(files: list[str], late: float = SKELETON_LEAD_FRAMES) -> dict[str, list[float]]:
+    """Plain-error distances (mm) from the skeleton's extended hands to the skeleton `late` frames
+    earlier, held there and extrapolated at its velocity over the frame before."""
+    out = {"held": [], "extrapolated": [], "missed_held": 0, "missed_extrapolated": 0}
+    for path in files:
+        clip = Clip(path)
+        for i in range(int(np.ceil(late)) + 1, len(clip)):
+            seen, before = skeleton_at(clip.hands, i - late), skeleton_at(clip.hands, i - late - 1)
+            for kind, guess in (("held", seen), ("extrapolated", seen + late * (seen - before))):
+                for p, q in zip(clip.hands[i], guess):
+                    if not np.all(np.isfinite(p)) or not np.all(np.isfinite(q)) or not extended(p, clip.body[i]):
+                        continue
+                    d = float(np.linalg.norm(q - p))
+                    if d < 250:
+                        out[kind].append(d)
+                    else:
+                        out[f"missed_{kind}"] += 1
+    return out
+
+
+def error_row(errors: dict, kind: str) -> tuple[dict, list]:
+    """Median, p90 and found rate of one kind of error, for the JSON figures and the table."""
+    found = len(errors[kind])
+    total = found + errors[f"missed_{kind}"]
+    p = percentiles(errors[kind], (50, 90))
+    rate = found / total if total else None
+    return {"median": p["p50"], "p90": p["p90"], "found_rate": rate}, [p["p50"], p["p90"], rate or float("nan")]
 
 
 def main() -> None:
@@ -120,16 +157,17 @@ def main() -> None:
                 errors_by_geometry[cls.geometry] = hand_errors(cls, files)
             errors = errors_by_geometry[cls.geometry]
             for kind in ("plain", "aligned"):
-                found = len(errors[kind])
-                total = found + errors[f"missed_{kind}"]
-                p = percentiles(errors[kind], (50, 90))
-                entry[f"hand_error_mm_{kind}"] = {"median": p["p50"], "p90": p["p90"],
-                                                  "found_rate": found / total if total else None}
-                row += [p["p50"], p["p90"], found / total if total else float("nan")]
+                entry[f"hand_error_mm_{kind}"], cells = error_row(errors, kind)
+                row += cells
         else:
             row += ["n/a"] * 6
         figures[cls.name] = entry
         rows.append(row)
+    if files:
+        late = late_skeleton_errors(files)
+        for kind, name in (("held", "skeleton 1.5 frames late"), ("extrapolated", "... extrapolated")):
+            figures[f"late_skeleton_{kind}"], cells = error_row(late, kind)
+            rows.append([name, "n/a", "n/a", "n/a", "n/a", *cells, "n/a", "n/a", "n/a"])
     columns = ["backend", "ms 320 p50", "p90", "ms 640 p50", "p90",
                "err p50", "p90", "found", "aligned p50", "p90", "found"]
     figures["clips"] = len(files)

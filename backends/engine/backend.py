@@ -39,7 +39,10 @@ class Engine:
     def step(self, depth: DepthFrame) -> tuple[TrackResult, list[Gesture]]:
         result = self.tracker.process(depth)
         self.last = result
-        gestures = self.recognizer.update(depth.timestamp, result.hands, result.body, depth.mirrored)
+        # A hand held where it was last seen (a dropout of a frame or two) is no measurement: its
+        # standing still would read as a stop. The recogniser gets the hands found in this frame.
+        measured = [h for h in result.hands if h.id in result.seen or not h.in_view]
+        gestures = self.recognizer.update(depth.timestamp, measured, result.body, depth.mirrored)
         return result, gestures
 
 

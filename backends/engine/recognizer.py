@@ -10,7 +10,7 @@ matched against the rules (rules.py):
   stroke the other way follows: then it was a wind-up (the larger stroke wins) or part of a
   back-and-forth (neither is a swipe); the third of alternating strokes is a wave's, never a
   swipe. If the hand leaves the view meanwhile, the swipe completes, except a swipe down: a hand
-  lost after a stroke down went back to rest.
+  lost after a stroke down went back to rest (a swipe down waits while its hand is unseen).
 - WAVE: several direction reversals of horizontal strokes, each large and quick enough, with
   the hand near or above the shoulders.
 - CLICK (PUSH): a fast stroke towards the camera with the hand up, after which the hand halts
@@ -89,6 +89,8 @@ class _HandTrack:
         for q in reversed(self.samples):
             if q.seen_since != since and ref is not None:
                 break  # measured within the hand's unbroken run of samples, not diluted across a gap
+            if ref is not None and ref.t - q.t > window:
+                break  # nor across frames missing in it: measured over what came after them
             ref = q
             if t - q.t >= window or q.seen_since != since:
                 break  # the first sample after a gap: the average speed across it, a lower bound
@@ -151,19 +153,20 @@ class GestureRecognizer:
         seen = {h.id for h in live}
         for hid, track in self._tracks.items():
             if hid not in seen:  # unseen this frame: its pending swipes still come due
-                judge = _Hand(self, track, track.hand, t, mirrored, events, self._tracks)
-                judge.vanished()
-                judge.resolve_all()
+                _Hand(self, track, track.hand, t, mirrored, events, self._tracks).resolve_all(in_view=False)
         return events
 
     def finish(self) -> list[Gesture]:
         """The stream ended (a clip's last frame): swipes still waiting to be confirmed complete, as
         when a hand leaves the view, at the last frame's time. A stroke still under way is not
         judged (ended early, an arm dropping to rest would look like a swipe down). Then a new
-        performance."""
+        performance. A hand already out of sight at the end is gone, as if it were lost."""
         events: list[Gesture] = []
         for track in self._tracks.values():
-            _Hand(self, track, track.hand, self._last_t, self._mirrored, events, self._tracks).flush()
+            judge = _Hand(self, track, track.hand, self._last_t, self._mirrored, events, self._tracks)
+            if track.last_seen < self._last_t:
+                judge.vanished()
+            judge.flush()
         self.reset()
         return events
 
@@ -214,12 +217,12 @@ class _Hand:
         self.click_under_way()
         self.hand_raise(s)
 
-    def resolve_all(self) -> None:
+    def resolve_all(self, in_view: bool = True) -> None:
         for axis in (X, Y):
-            self.resolve_pending(axis)
+            self.resolve_pending(axis, in_view)
 
     def vanished(self) -> None:
-        """The hand is not reported: a stroke down waiting to be confirmed was the arm going back to
+        """The hand is gone: a stroke down still waiting to be confirmed was the arm going back to
         rest, where a depth tracker loses the hand in the body, not a swipe down."""
         pending = self.tr.pending.get(Y)
         if pending is not None and pending.direction < 0:
@@ -325,10 +328,13 @@ class _Hand:
         if stroke.axis == X:
             self.wave(chain, reversed_)
 
-    def resolve_pending(self, axis: int) -> None:
-        """Complete a swipe once it is clear that no comparable stroke the other way follows it."""
+    def resolve_pending(self, axis: int, in_view: bool = True) -> None:
+        """Complete a swipe once it is clear that no comparable stroke the other way follows it; a
+        swipe down only while its hand is in view (see `vanished`)."""
         pending = self.tr.pending.get(axis)
         if pending is None or self.t < pending.end.t + self.r.swipe_confirm_s:
+            return
+        if not in_view and axis == Y and pending.direction < 0:
             return
         current = self.tr.strokes[axis].current()
         if current is not None and current.direction == -pending.direction and self.swipe_like(current):
@@ -381,9 +387,11 @@ class _Hand:
 
     def halted(self, stroke: Stroke) -> bool:
         """Did the hand nearly stop at the stroke's end (a push stops or comes back; a hand sweeping
-        down past its furthest point does not)?"""
-        after = [q for q in self.tr.samples if stroke.end.t <= q.t <= stroke.end.t + self.r.speed_window_s + 1e-6]
-        return min(float(np.linalg.norm(q.v)) for q in after) <= self.r.click_halt_max_speed_mm_s
+        down past its furthest point does not)? Unseen just after the end, the next sample tells
+        (its speed spans the gap)."""
+        later = [q for q in self.tr.samples if q.t > stroke.end.t]
+        soon = [q for q in later if q.t <= stroke.end.t + self.r.speed_window_s + 1e-6] or later[:1]
+        return min(float(np.linalg.norm(q.v)) for q in (stroke.end, *soon)) <= self.r.click_halt_max_speed_mm_s
 
     def click(self, stroke: Stroke) -> None:
         if self.click_like(stroke) and self.halted(stroke):

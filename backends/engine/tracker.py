@@ -63,6 +63,7 @@ class TrackResult:
 
     hands: tuple[Hand, ...]
     body: dict[str, Vec3]
+    seen: frozenset[int] = frozenset()  # ids of the hands found in this frame (others are held or lost)
     mask: np.ndarray | None = None  # (h, w) bool on the internal grid; full_mask() for the image's size
     grid_z: np.ndarray | None = None  # the grid's depth (mm), to refine the mask at full resolution
 
@@ -116,7 +117,8 @@ class HandTracker:
         candidates = self.detector.detect(seg, body)
         hands = self._update_tracks(t, candidates, body.torso, depth.mirrored)
         points = {"torso": _vec(body.torso), "head": _vec(body.head)}
-        return TrackResult(hands, points, seg.mask, seg.grid.z)
+        seen = frozenset(track.id for track in self._tracks if track.seen == t)
+        return TrackResult(hands, points, seen, seg.mask, seg.grid.z)
 
     # -- tracks ------------------------------------------------------------------------------
     def _update_tracks(self, t: float, found: list[Candidate], torso: np.ndarray | None,

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import io
 import json
+from dataclasses import replace
 import subprocess
 import sys
 
@@ -217,6 +218,17 @@ def issv(*args: str) -> subprocess.CompletedProcess:
 def clips(tmp_path_factory, wave):
     folder = tmp_path_factory.mktemp("clips")
     return write_clip(folder / "wave.npz", wave), write_clip(folder / "start.npz", wave[:20])
+
+
+def test_the_recogniser_gets_only_the_hands_found_in_each_frame(wave):
+    engine = OpenISSBackend().build_engine()
+    given = []
+    update = engine.recognizer.update
+    engine.recognizer.update = lambda t, hands, *rest: given.append([h.id for h in hands]) or update(t, hands, *rest)
+    frames_with_a_dropout = wave[:40] + [replace(wave[40], data=np.zeros_like(wave[40].data))] + wave[41:45]
+    results = [engine.step(f)[0] for f in frames_with_a_dropout]
+    assert results[40].hands and not results[40].seen  # held: reported to effects
+    assert given[40] == [] and given[39] == [h.id for h in results[39].hands]
 
 
 def test_track_prints_a_hands_line_per_frame_and_the_gesture_events(clips, wave):

@@ -237,3 +237,17 @@ def test_lines_of_missing_readings_do_not_cut_the_user_apart(wave, lost, period)
     for r, f in zip(results, sparse):
         assert np.linalg.norm(np.subtract(r.body["torso"], f.truth.body["torso"])) < 150
     assert sum(bool(r.hands) for r, f in zip(results, sparse) if waving(f)) > 0.8 * sum(waving(f) for f in sparse)
+
+
+def test_a_hand_held_through_a_dropout_is_reported_but_not_seen(wave):
+    """Missed for a frame, a tracked hand is still reported where it was last seen (effects do not
+    see it flicker), but it is not among the hands found in that frame: the recogniser must not
+    take its standing still for a stop."""
+    tracker = HandTracker()
+    results = [tracker.process(f) for f in wave[:40]]
+    last = results[-1]
+    assert last.hands and {h.id for h in last.hands} == last.seen
+    blank = replace(wave[40], data=np.zeros_like(wave[40].data))  # nothing seen at all
+    held = tracker.process(blank)
+    assert [h.id for h in held.hands] == [h.id for h in last.hands] and held.seen == frozenset()
+    assert [h.position for h in held.hands] == [h.position for h in last.hands]
