@@ -34,6 +34,9 @@ class HandOptions(BaseModel):
     hip_margin_mm: float = Field(60, ge=0, description="a limb whose far end reaches this close to the hip line hangs down")
     joint_step_mm: float = Field(100, gt=0, description="neighbours closer than this in depth are one surface (arm joins body)")
     hands_apart_mm: float = Field(150, gt=0, description="two hand positions closer than this are one hand")
+    min_reach_mm: float = Field(250, ge=0, description=(
+        "an end nearer than this to the base of the neck is the head or a shoulder seen at an angle, "
+        "not a hand (a hand out of its rest is at least a forearm away)"))
     second_hand_ratio: float = Field(0.8, gt=0, le=1, description=(
         "a second end of one patch counts as a hand when it reaches this share of the first's "
         "distance from the body (an elbow reaches about half)"))
@@ -107,6 +110,8 @@ class HandDetector:
                     continue
                 at_border = bool(np.any((ys[palm] == 0) | (ys[palm] == h - 1) | (xs[palm] == 0) | (xs[palm] == w - 1)))
                 reach = float(np.linalg.norm(pts[tip] - neck))
+                if reach < o.min_reach_mm:
+                    continue
                 # Sides: by where the arm joins the body; for two hands of one patch, by each hand.
                 seen = g.pixel_area_mm2[ys[palm], xs[palm]].sum() / (o.palm_area_m2 * 1e6)
                 found.append(Candidate(position, reach, at_border,
