@@ -20,6 +20,8 @@ from __future__ import annotations
 import glob
 import os
 import time
+from collections import Counter, defaultdict
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import cv2
@@ -74,9 +76,37 @@ def extended(p: np.ndarray, body: np.ndarray) -> bool:
     return bool(spine[2] - p[2] > 200 or abs(p[0] - spine[0]) > 350 or p[1] > head[1])
 
 
-def hand_errors(cls: type[EngineBackend], files: list[str]) -> dict[str, list[float]]:
-    """Distances (mm) from extended skeleton hands to the nearest reported hand, plain and aligned."""
-    out = {"plain": [], "aligned": [], "missed_plain": 0, "missed_aligned": 0}
+FOUND_WITHIN_MM = 250.0  # score.py: an extended truth hand with a reported hand this near is found
+
+
+@dataclass
+class HandErrors:
+    """Per kind of comparison: distances (mm) of the extended truth hands found, and how many were not."""
+
+    found: dict[str, list[float]] = field(default_factory=lambda: defaultdict(list))
+    missed: Counter = field(default_factory=Counter)
+
+    def add(self, kind: str, truth: np.ndarray, body: np.ndarray, distance: float) -> None:
+        """One truth hand (skipped unless known and extended) at `distance` from the nearest guess."""
+        if not np.all(np.isfinite(truth)) or not extended(truth, body):
+            return
+        if distance < FOUND_WITHIN_MM:
+            self.found[kind].append(distance)
+        else:
+            self.missed[kind] += 1
+
+    def row(self, kind: str) -> tuple[dict, list]:
+        """Median, p90 and found rate, for the JSON figures and the table."""
+        found = len(self.found[kind])
+        total = found + self.missed[kind]
+        p = percentiles(self.found[kind], (50, 90))
+        rate = found / total if total else None
+        return {"median": p["p50"], "p90": p["p90"], "found_rate": rate}, [p["p50"], p["p90"], rate or float("nan")]
+
+
+def hand_errors(cls: type[EngineBackend], files: list[str]) -> HandErrors:
+    """Extended skeleton hands against the nearest reported hand, plain and aligned."""
+    out = HandErrors()
     for path in files:
         clip = Clip(path)
         tracker = cls().build_engine().tracker
@@ -91,13 +121,7 @@ def hand_errors(cls: type[EngineBackend], files: list[str]) -> dict[str, list[fl
                     ("plain", clip.hands[i], clip.body[i]),
                     ("aligned", skeleton_at(clip.hands, back), skeleton_at(clip.body, back))):
                 for p in hands:
-                    if not np.all(np.isfinite(p)) or not extended(p, body):
-                        continue
-                    d = min((float(np.linalg.norm(q - p)) for q in reported), default=np.inf)
-                    if d < 250:
-                        out[kind].append(d)
-                    else:
-                        out[f"missed_{kind}"] += 1
+                    out.add(kind, p, body, min((float(np.linalg.norm(q - p)) for q in reported), default=np.inf))
     return out
 
 
@@ -108,33 +132,19 @@ def skeleton_at(points: np.ndarray, t: float) -> np.ndarray:
     return points[i] * (1 - frac) + points[min(i + 1, len(points) - 1)] * frac
 
 
-def late_skeleton_errors(files: list[str], late: float = SKELETON_LEAD_FRAMES) -> dict[str, list[float]]:
-    """Plain-error distances (mm) from the skeleton's extended hands to the skeleton `late` frames
-    earlier, held there and extrapolated at its velocity over the frame before."""
-    out = {"held": [], "extrapolated": [], "missed_held": 0, "missed_extrapolated": 0}
+def late_skeleton_errors(files: list[str], late: float = SKELETON_LEAD_FRAMES) -> HandErrors:
+    """The skeleton's extended hands against the skeleton `late` frames earlier, held there and
+    extrapolated at its velocity over the frame before."""
+    out = HandErrors()
     for path in files:
         clip = Clip(path)
         for i in range(int(np.ceil(late)) + 1, len(clip)):
             seen, before = skeleton_at(clip.hands, i - late), skeleton_at(clip.hands, i - late - 1)
             for kind, guess in (("held", seen), ("extrapolated", seen + late * (seen - before))):
                 for p, q in zip(clip.hands[i], guess):
-                    if not np.all(np.isfinite(p)) or not np.all(np.isfinite(q)) or not extended(p, clip.body[i]):
-                        continue
-                    d = float(np.linalg.norm(q - p))
-                    if d < 250:
-                        out[kind].append(d)
-                    else:
-                        out[f"missed_{kind}"] += 1
+                    if np.all(np.isfinite(q)):  # a skeleton that lost the hand guesses nothing
+                        out.add(kind, p, clip.body[i], float(np.linalg.norm(q - p)))
     return out
-
-
-def error_row(errors: dict, kind: str) -> tuple[dict, list]:
-    """Median, p90 and found rate of one kind of error, for the JSON figures and the table."""
-    found = len(errors[kind])
-    total = found + errors[f"missed_{kind}"]
-    p = percentiles(errors[kind], (50, 90))
-    rate = found / total if total else None
-    return {"median": p["p50"], "p90": p["p90"], "found_rate": rate}, [p["p50"], p["p90"], rate or float("nan")]
 
 
 def main() -> None:
@@ -157,7 +167,7 @@ def main() -> None:
                 errors_by_geometry[cls.geometry] = hand_errors(cls, files)
             errors = errors_by_geometry[cls.geometry]
             for kind in ("plain", "aligned"):
-                entry[f"hand_error_mm_{kind}"], cells = error_row(errors, kind)
+                entry[f"hand_error_mm_{kind}"], cells = errors.row(kind)
                 row += cells
         else:
             row += ["n/a"] * 6
@@ -166,7 +176,7 @@ def main() -> None:
     if files:
         late = late_skeleton_errors(files)
         for kind, name in (("held", "skeleton 1.5 frames late"), ("extrapolated", "... extrapolated")):
-            figures[f"late_skeleton_{kind}"], cells = error_row(late, kind)
+            figures[f"late_skeleton_{kind}"], cells = late.row(kind)
             rows.append([name, "n/a", "n/a", "n/a", "n/a", *cells, "n/a", "n/a", "n/a"])
     columns = ["backend", "ms 320 p50", "p90", "ms 640 p50", "p90",
                "err p50", "p90", "found", "aligned p50", "p90", "found"]

@@ -112,10 +112,9 @@ class EngineBackend(Backend):
 
     def finish(self) -> tuple[Gesture, ...]:
         """The source ended: the recogniser's swipes still waiting to be confirmed complete."""
-        engine = getattr(self, "engine", None)  # absent while an SDK supplies the frames
-        if engine is None or not self.detecting_gestures:
+        if not self.detecting_gestures:
             return ()
-        return self._named(engine.recognizer.finish())
+        return self._named(self.engine.recognizer.finish())
 
     def _named(self, gestures: list[Gesture]) -> tuple[Gesture, ...]:
         """The gestures, naming their hands as this mode's hands are named (Nuitrack: by side)."""

@@ -49,6 +49,11 @@ NUITRACK_DICTIONARY: dict[str, GestureType] = {
 _HISTORY_S = 3.0  # how much of each hand's past is kept (longer than any gesture)
 
 
+def _drop(stroke: Stroke) -> bool:
+    """A stroke down: a swipe down, or an arm going back to rest if the hand is lost after it."""
+    return stroke.axis == Y and stroke.direction < 0
+
+
 def _margin(value: float, threshold: float) -> float:
     """0 at the threshold, 1 at twice the threshold (or more)."""
     return float(np.clip(value / threshold - 1.0, 0.0, 1.0)) if threshold > 0 else 1.0
@@ -138,9 +143,7 @@ class GestureRecognizer:
         for hid in gone:
             track = self._tracks.pop(hid, None)
             if track is not None:  # a swipe just before the hand left the view still counts
-                judge = _Hand(self, track, track.hand, t, mirrored, events, self._tracks)
-                judge.vanished()
-                judge.flush()
+                _Hand(self, track, track.hand, t, mirrored, events, self._tracks).flush(gone=True)
         frame = self._body.update(t, {h.id: np.asarray(h.position, float) for h in live}, body or {})
         for h in live:
             track = self._tracks.get(h.id)
@@ -163,10 +166,8 @@ class GestureRecognizer:
         performance. A hand already out of sight at the end is gone, as if it were lost."""
         events: list[Gesture] = []
         for track in self._tracks.values():
-            judge = _Hand(self, track, track.hand, self._last_t, self._mirrored, events, self._tracks)
-            if track.last_seen < self._last_t:
-                judge.vanished()
-            judge.flush()
+            _Hand(self, track, track.hand, self._last_t, self._mirrored, events, self._tracks).flush(
+                gone=track.last_seen < self._last_t)
         self.reset()
         return events
 
@@ -221,16 +222,13 @@ class _Hand:
         for axis in (X, Y):
             self.resolve_pending(axis, in_view)
 
-    def vanished(self) -> None:
-        """The hand is gone: a stroke down still waiting to be confirmed was the arm going back to
-        rest, where a depth tracker loses the hand in the body, not a swipe down."""
-        pending = self.tr.pending.get(Y)
-        if pending is not None and pending.direction < 0:
-            del self.tr.pending[Y]
-
-    def flush(self) -> None:
-        """The hand is gone: its pending swipes are complete (nothing followed them)."""
+    def flush(self, gone: bool) -> None:
+        """The hand is gone (or the stream ended): its pending swipes are complete, nothing followed
+        them. A swipe down whose hand is gone was the arm going back to rest, where a depth tracker
+        loses the hand in the body: it is dropped."""
         for stroke in list(self.tr.pending.values()):
+            if gone and _drop(stroke):
+                continue
             self.emit(self.swipe_name(stroke), GestureState.COMPLETE, self.swipe_confidence(stroke), stroke.end)
         self.tr.pending.clear()
 
@@ -330,11 +328,11 @@ class _Hand:
 
     def resolve_pending(self, axis: int, in_view: bool = True) -> None:
         """Complete a swipe once it is clear that no comparable stroke the other way follows it; a
-        swipe down only while its hand is in view (see `vanished`)."""
+        swipe down only while its hand is in view (see `flush`)."""
         pending = self.tr.pending.get(axis)
         if pending is None or self.t < pending.end.t + self.r.swipe_confirm_s:
             return
-        if not in_view and axis == Y and pending.direction < 0:
+        if not in_view and _drop(pending):
             return
         current = self.tr.strokes[axis].current()
         if current is not None and current.direction == -pending.direction and self.swipe_like(current):

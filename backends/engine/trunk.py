@@ -96,14 +96,14 @@ class BodyEstimator:
             crown = self._last_crown[1]
         if crown is not None:
             shoulder_y = min(shoulder_y, crown - o.shoulder_below_crown_mm)
-        trunk = core & (g.y > shoulder_y - o.trunk_height_mm) & (g.y < shoulder_y)
+        trunk_rows = (g.y > shoulder_y - o.trunk_height_mm) & (g.y < shoulder_y)
+        trunk = core & trunk_rows
         if not trunk.any():
             trunk = core
         # The spine's x from the trunk as the camera sees its outline, whatever lies in front of it
         # (each cell's ray at the trunk's depth): an arm across the chest hides part of the trunk
         # and would pull the middle of what is left away from the spine.
-        seen = self._open(mask & (g.z < ref + o.plane_band_mm), kernel)
-        seen = seen & (g.y > shoulder_y - o.trunk_height_mm) & (g.y < shoulder_y) | trunk
+        seen = self._open(mask & (g.z < ref + o.plane_band_mm), kernel) & trunk_rows | trunk
         tx = float(np.median(g.x[seen] / g.z[seen])) * ref
         tx, shoulder_y, surface = self._frame(t, np.array([tx, shoulder_y, np.median(g.z[trunk])]))
         self._surface_z = surface

@@ -90,6 +90,10 @@ class SdkBackend(EngineBackend):
         """True while the middleware itself supplies the frames (False: the open engine)."""
         return getattr(self, "_sdk", None) is not None
 
+    def finish(self) -> tuple[Gesture, ...]:
+        """The middleware keeps its own gesture state: nothing of ours to complete while it runs."""
+        return () if self.runs_sdk else super().finish()
+
     def open_sdk(self) -> SdkSession:
         """Open the middleware on its sensor; SdkUnavailable says why it cannot."""
         raise NotImplementedError

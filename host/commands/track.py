@@ -40,16 +40,20 @@ def track(clip: Path, backend_cls, source_cls, tag: str | None, out) -> None:
     source = source_cls(source_cls.Options(path=str(clip)))
     backend = backend_cls(source, backend_cls.Options())
     extra = {"clip": tag} if tag is not None else {}
+
+    def line(doc: dict) -> None:
+        out.write(json.dumps({**doc, **extra}) + "\n")
+
     frames = 0
     try:
         with backend:
             while (frame := backend.update()) is not None:
                 frames += 1
-                out.write(json.dumps({**frame.hands_json(), **extra}) + "\n")
+                line(frame.hands_json())
                 for gesture in frame.gestures:
-                    out.write(json.dumps({**gesture.to_json(), **extra}) + "\n")
+                    line(gesture.to_json())
             for gesture in backend.finish():  # the clip ended: gestures still being confirmed complete
-                out.write(json.dumps({**gesture.to_json(), **extra}) + "\n")
+                line(gesture.to_json())
     except PluginUnavailable as error:
         raise UserError(f"backend {backend_cls.name!r}: {error}") from None
     except UserError:

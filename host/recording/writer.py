@@ -61,9 +61,7 @@ class RecordingWriter:
                 self._add(codec.DEPTH, log_time, codec.seconds_to_ns(depth.capture_time),
                           codec.encode_depth(depth), depth.frame_id)
                 self._last_depth = depth
-            for gesture in frame.gestures:
-                self._add(codec.GESTURES, log_time, publish,
-                          json.dumps(codec.gesture_to_json(gesture, frame.seq)).encode(), frame.seq)
+            self._add_gestures(frame.gestures, frame.seq, log_time, publish)
             self._add(codec.HANDS, log_time, publish, json.dumps(codec.hands_to_json(frame)).encode(), frame.seq)
             self._t, self._seq = log_time, frame.seq
             self.frames += 1
@@ -76,9 +74,12 @@ class RecordingWriter:
         with self._lock:
             if self.closed:
                 return
-            for gesture in gestures:
-                self._add(codec.GESTURES, self._t, codec.seconds_to_ns(time.time()),
-                          json.dumps(codec.gesture_to_json(gesture, self._seq + 1)).encode(), self._seq + 1)
+            self._add_gestures(gestures, self._seq + 1, self._t, codec.seconds_to_ns(time.time()))
+
+    def _add_gestures(self, gestures: tuple[Gesture, ...], seq: int, log_time: int, publish_time: int) -> None:
+        for gesture in gestures:
+            self._add(codec.GESTURES, log_time, publish_time,
+                      json.dumps(codec.gesture_to_json(gesture, seq)).encode(), seq)
 
     def write_metrics(self, doc: dict, final: bool = False) -> None:
         with self._lock:
