@@ -1,11 +1,12 @@
 """Hand candidates: the ends of the limbs that stick out of the body frame.
 
-A cell of the user is "extended" when it is in front of the trunk (push, click), beside it
-(swipe, arms spread) or above the shoulders away from the head (wave, hand raise), and above the
-hips (legs are not hands). Each connected patch of extended cells is one arm; its hand is the
-centre of the cells within a palm's reach of the patch's point farthest from where the patch
-joins the rest of the body without a depth jump (the elbow of a raised forearm, the shoulder of
-an outstretched arm), so a bent or crossing arm still ends in its hand. An arm has one hand:
+A cell of the user is "extended" when it is in front of the trunk (push, click; before the face,
+in front of the face, so a head leaning forward is not a hand), beside it (swipe, arms spread)
+or above the shoulders away from the head (wave, hand raise), and above the hips (legs are not
+hands). Each connected patch of extended cells is one arm; its hand is the centre of the cells
+within a palm's reach of the patch's point farthest from where the patch joins the rest of the
+body without a depth jump (the elbow of a raised forearm, the shoulder of an outstretched arm),
+so a bent or crossing arm still ends in its hand. An arm has one hand:
 of two ends on one side of the spine the one farther from that side's shoulder is kept, an end
 beside and behind the trunk within an upper arm of its shoulder is an elbow, and an end within a
 forearm of the base of the neck is the head or a shoulder seen at an angle. All in mm.
@@ -24,7 +25,8 @@ from backends.engine.segmentation import ONE_CELL_GAP, Segment
 
 class HandOptions(BaseModel):
     model_config = ConfigDict(extra="forbid")
-    front_mm: float = Field(120, gt=0, description="in front of the trunk's surface by more than this: extended")
+    front_mm: float = Field(120, gt=0, description=(
+        "in front of the trunk's surface (before the face, the face's) by more than this: extended"))
     beside_mm: float = Field(340, gt=0, description="farther than this sideways from the spine: extended")
     above_shoulder_mm: float = Field(150, description="higher than this above the shoulder line and clear of the head")
     head_clearance_mm: float = Field(190, gt=0, description="cells this close to the head joint are head, not hand")
@@ -69,7 +71,7 @@ class HandDetector:
         dx = g.x - tx
         front = body.surface_z - g.z
         head_clear = np.hypot(g.x - body.head[0], g.y - body.head[1]) > o.head_clearance_mm
-        extended = ((front > o.front_mm)
+        extended = (((front > o.front_mm) & (head_clear | (body.face_z - g.z > o.front_mm)))
                     | ((np.abs(dx) > o.beside_mm) & ~body.core)
                     | ((g.y > body.shoulder_y + o.above_shoulder_mm) & head_clear))
         cand = seg.mask & extended & (g.y > body.hip_y)

@@ -48,6 +48,7 @@ class Body:
     shoulder_y: float
     hip_y: float  # below this, limbs are legs
     surface_z: float  # depth of the trunk's front surface
+    face_z: float  # depth of the face: the head joint less a joint's depth
     core: np.ndarray  # (h, w) bool: trunk cells on the grid
 
 
@@ -117,7 +118,7 @@ class BodyEstimator:
             head = np.array([np.median(g.x[head_cells]), crown - o.crown_above_head_mm,
                              np.median(g.z[head_cells]) + o.joint_depth_mm])
         head = self._head_filter(t, head)
-        return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface, core)
+        return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface, head[2] - o.joint_depth_mm, core)
 
     @staticmethod
     def _crown(y: np.ndarray, column: np.ndarray, in_front: np.ndarray, hidden_mm: float) -> float | None:

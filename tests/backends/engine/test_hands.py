@@ -10,8 +10,9 @@ from backends.engine.trunk import Body
 CELL_MM = 20.0
 
 
-def scene(patches: list[tuple[slice, slice, float]]) -> tuple[Segment, Body]:
-    """A flat trunk and head 2.5 m away on a 20 mm grid, with patches (rows, columns, depth) in front."""
+def scene(patches: list[tuple[slice, slice, float]], face_z: float = 2500.0) -> tuple[Segment, Body]:
+    """A flat trunk and head 2.5 m away on a 20 mm grid, with patches (rows, columns, depth) in front;
+    `face_z`, where the body frame puts the face."""
     rows, cols = 60, 60
     v, u = np.mgrid[0:rows, 0:cols].astype(np.float32)
     x, y = (u - cols / 2) * CELL_MM, (rows / 3 - v) * CELL_MM  # y = 0 at row 20, up is +
@@ -23,8 +24,8 @@ def scene(patches: list[tuple[slice, slice, float]]) -> tuple[Segment, Body]:
     mask = z > 0
     grid = Grid(z, np.where(mask, x, 0), np.where(mask, y, 0), np.full_like(z, CELL_MM ** 2),
                 CELL_MM / 2500, CELL_MM / 2500)
-    frame = Body(torso=np.array([0.0, -90.0, 2610.0]), head=np.array([0.0, 330.0, 2600.0]),
-                 shoulder_y=150.0, hip_y=-400.0, surface_z=2500.0, core=body)
+    frame = Body(torso=np.array([0.0, -90.0, 2610.0]), head=np.array([0.0, 330.0, face_z + 110.0]),
+                 shoulder_y=150.0, hip_y=-400.0, surface_z=2500.0, face_z=face_z, core=body)
     return Segment(mask, grid), frame
 
 
@@ -39,3 +40,15 @@ def test_an_end_by_the_neck_is_no_hand_and_one_a_forearm_away_is():
     found = detect(*scene([held_out]))
     assert len(found) == 1 and 250 < found[0].position[0] < 300
     assert len(HandDetector(HandOptions(min_reach_mm=0)).detect(*scene([by_the_neck]))) == 1
+
+
+def test_a_head_leaning_forward_is_no_hand_and_a_hand_before_the_face_is():
+    """Bowing or sitting down brings the head well in front of the chest, where a pushing hand
+    would be; in front of the face, only what is in front of the face itself is a hand."""
+    head = (slice(2, 12), slice(26, 35), 2330.0)  # the whole head, 170 mm in front of the chest
+    hand = (slice(4, 9), slice(28, 33), 2150.0)  # before that face, 180 mm in front of it
+    detect = HandDetector(HandOptions()).detect
+    assert detect(*scene([head], face_z=2330.0)) == []
+    found = detect(*scene([head, hand], face_z=2330.0))
+    assert len(found) == 1 and abs(found[0].position[2] - 2150.0 - HandOptions().hand_depth_mm) < 30
+    assert len(detect(*scene([head]))) == 1  # a face where the chest is: the head sticks out like a hand
