@@ -48,6 +48,10 @@ class SdkSession(Protocol):
     def world_to_depth(self, position: Vec3) -> tuple[float, float, float]:
         """The middleware's own mm -> (u, v, z) conversion (convertHandCoordinatesToDepth)."""
 
+    def finish(self) -> tuple[Gesture, ...]:
+        """The frames ended: gestures still waiting to be confirmed complete (none where the
+        middleware keeps its own gesture state)."""
+
     def close(self) -> None:
         """Release the middleware's trackers and the device it opened."""
 
@@ -91,8 +95,13 @@ class SdkBackend(EngineBackend):
         return getattr(self, "_sdk", None) is not None
 
     def finish(self) -> tuple[Gesture, ...]:
-        """The middleware keeps its own gesture state: nothing of ours to complete while it runs."""
-        return () if self.runs_sdk else super().finish()
+        """The frames ended: what their supplier still had pending. That is the middleware's
+        session while it runs, or when it stopped with no source to fall back to; otherwise the
+        open engine's."""
+        if self._sdk is None and self._ended is None:
+            return super().finish()
+        pending = self._sdk.finish() if self._sdk is not None else self._ended
+        return pending if self.detecting_gestures else ()
 
     def open_sdk(self) -> SdkSession:
         """Open the middleware on its sensor; SdkUnavailable says why it cannot."""
@@ -100,6 +109,7 @@ class SdkBackend(EngineBackend):
 
     def init(self) -> None:
         self._sdk: SdkSession | None = None
+        self._ended: tuple[Gesture, ...] | None = None  # pending when the SDK stopped and the show ended
         self._source_opened = False
         self._seq = 0
         plan = self.implementation(self.options, self.source)
@@ -161,6 +171,7 @@ class SdkBackend(EngineBackend):
         except SdkStopped as error:  # said once: this backend's SDK is gone for the rest of the show
             if self.source is None:
                 print(f"issv: {self.name}: {error}; no source to fall back to: the show ends", file=sys.stderr)
+                self._ended = self._sdk.finish()
                 self._close_sdk()
                 return None
             print(f"issv: {self.name}: {error}; switching to {self.engine_mode} on the profile's source",

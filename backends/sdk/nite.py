@@ -183,6 +183,9 @@ class NiteSession:
         u, v = self.tracker.convert_hand_coordinates_to_depth(*map(float, position))
         return (u, v, float(position[2]))
 
+    def finish(self) -> tuple[Gesture, ...]:
+        return ()  # NiTE2 completes its gestures itself
+
     def close(self) -> None:
         self.tracker.close()
         if self.owns_device:

@@ -37,7 +37,7 @@ from pydantic import Field
 
 from backends.engine.backend import EngineOptions, OpenISSNuitrackBackend
 from backends.sdk.adapter import SdkBackend, SdkFrame, SdkStopped, SdkUnavailable
-from host import DepthFrame, Hand, HandState, Intrinsics, Side, Source, Vec3
+from host import DepthFrame, Gesture, Hand, HandState, Intrinsics, Side, Source, Vec3
 
 INSTALL = ("install Nuitrack and its PyNuitrack wheel "
            "(github.com/3DiVi/nuitrack-sdk, folder PythonNuitrack-beta), then activate a licence")
@@ -207,6 +207,9 @@ class NuitrackSession:
         if self.intrinsics is None:
             raise SdkStopped("Nuitrack has delivered no depth frame yet")
         return self.intrinsics.world_to_depth(*position)
+
+    def finish(self) -> tuple[Gesture, ...]:
+        return tuple(self.recognizer.finish())  # our recogniser on Nuitrack's joints
 
     def close(self) -> None:
         self.nuitrack.release()

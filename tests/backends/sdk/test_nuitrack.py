@@ -132,6 +132,22 @@ def test_licence_expiry_without_a_source_ends_the_show_cleanly(sensor, capsys):
     assert "LicenseNotAcquired" in err and "no source to fall back to: the show ends" in err
 
 
+def test_a_swipe_still_pending_when_nuitrack_stops_and_the_show_ends_completes(sensor, capsys):
+    """The show's end asks the backend for what its recogniser was still confirming: Nuitrack's
+    session, even once it has stopped, not an open engine that never ran."""
+    frames = nuitrack_frames(c.swipe())
+    ends = next(n for n in range(len(frames)) if frames[n].t >= 1.9)  # the stroke is over, not yet confirmed
+    sensor.frames = frames[:ends]
+    with NuitrackBackend(None) as backend:
+        played = run(backend)
+        assert not any(g.state is GestureState.COMPLETE for f in played for g in f.gestures)
+        done = backend.finish()
+        assert [(g.name, g.state, g.hand_id) for g in done] == [("swipe_left", GestureState.COMPLETE, 2)]
+        backend.stop_gesture_detection()
+        assert backend.finish() == ()
+    assert "Nuitrack delivered no depth" in capsys.readouterr().err
+
+
 def test_a_sensor_that_stops_delivering_falls_back_to_the_engine(sensor, capsys):
     sensor.frames = nuitrack_frames(c.swipe())[:3]
     with NuitrackBackend(Camera()) as backend:
