@@ -36,7 +36,7 @@ class BodyOptions(BaseModel):
     crown_above_head_mm: float = Field(60, ge=0, description="top of the head (as the coarse grid sees it) above the head joint")
     hidden_crown_hold_s: float = Field(0.5, ge=0, description=(
         "while an arm in front hides the top of the head (a swipe past the face), the crown is taken "
-        "where it was last seen, for up to this long"))
+        "where it was last seen, for up to this long, unless the user's top rises a head_radius_mm above it"))
 
 
 @dataclass(frozen=True)
@@ -94,7 +94,10 @@ class BodyEstimator:
         if crown is not None:
             self._last_crown = (t, crown)
         elif self._last_crown is not None and t - self._last_crown[0] <= o.hidden_crown_hold_s:
-            crown = self._last_crown[1]
+            # An arm in front hides the head without raising the user's top; a performer standing
+            # up from a bend brings the head up in front of the body: no crown to hold then.
+            top = self._top(g.y, spine_strip)
+            crown = self._last_crown[1] if top is None or top <= self._last_crown[1] + o.head_radius_mm else None
         if crown is not None:
             shoulder_y = min(shoulder_y, crown - o.shoulder_below_crown_mm)
         trunk_rows = (g.y > shoulder_y - o.trunk_height_mm) & (g.y < shoulder_y)
@@ -121,17 +124,21 @@ class BodyEstimator:
         return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface, head[2] - o.joint_depth_mm, core)
 
     @staticmethod
-    def _crown(y: np.ndarray, column: np.ndarray, in_front: np.ndarray, hidden_mm: float) -> float | None:
-        """Height (mm) of the highest row of the head's column with two or more cells (one is noise);
-        None when something in front of the body (an arm swiping past the face) covers the column
-        just above that row (within `hidden_mm`): the head may go on behind it, so the crown would
-        read too low. A hand held higher, clear of the head, hides nothing."""
-        rows = np.flatnonzero(column.sum(axis=1) >= 2)
+    def _top(y: np.ndarray, cells: np.ndarray) -> float | None:
+        """Height (mm) of the highest row with two or more of the cells (one is noise)."""
+        rows = np.flatnonzero(cells.sum(axis=1) >= 2)
         if rows.size == 0:
             return None
-        top = rows[0]
-        crown = float(np.median(y[top][column[top]]))
-        if (in_front & (y >= crown) & (y <= crown + hidden_mm)).any():
+        return float(np.median(y[rows[0]][cells[rows[0]]]))
+
+    @classmethod
+    def _crown(cls, y: np.ndarray, column: np.ndarray, in_front: np.ndarray, hidden_mm: float) -> float | None:
+        """The top of the head's column; None when something in front of the body (an arm swiping
+        past the face) covers the column just above it (within `hidden_mm`): the head may go on
+        behind it, so the crown would read too low. A hand held higher, clear of the head, hides
+        nothing."""
+        crown = cls._top(y, column)
+        if crown is None or (in_front & (y >= crown) & (y <= crown + hidden_mm)).any():
             return None
         return crown
 
