@@ -149,13 +149,24 @@ def surface_distance(depth: np.ndarray, intrinsics: Intrinsics, p: np.ndarray) -
     return float(np.sqrt((x - p[0]) ** 2 + (y - p[1]) ** 2 + (z - p[2]) ** 2).min())
 
 
-def skeleton_lead(files: list[str]) -> tuple[float, list[float]]:
+@dataclass
+class SkeletonReference:
+    """What the skeleton itself says about these recordings."""
+
+    lead: float  # frames it runs ahead of the depth
+    hand_to_depth_mm: list[float]  # median distance of its extended hands to the depth, per delay tried
+    late: HandErrors  # itself `lead` frames late, "held" and "extrapolated"
+
+
+def skeleton_reference(files: list[str]) -> SkeletonReference:
     """By how many frames the skeleton runs ahead of the depth, measured without a tracker: the
     delay at which its extended hand joints lie nearest the depth readings (the median distance
-    over all clips is smallest). Returns the lead and that median for every delay tried."""
+    over all clips is smallest); and what it scores itself, that late."""
     distances: dict[float, list[float]] = defaultdict(list)
+    skeletons = []
     for path in files:
         clip = Clip(path)
+        skeletons.append((clip.hands, clip.body))
         for i in range(int(np.ceil(LEADS_TRIED[-1])), len(clip)):
             for lead in LEADS_TRIED:
                 hands, body = skeleton_at(clip.hands, i - lead), skeleton_at(clip.body, i - lead)
@@ -163,21 +174,21 @@ def skeleton_lead(files: list[str]) -> tuple[float, list[float]]:
                     if np.all(np.isfinite(p)) and extended(p, body):
                         distances[lead].append(surface_distance(clip.depth[i], clip.intrinsics, p))
     medians = [float(np.median(distances[lead])) for lead in LEADS_TRIED]
-    return float(LEADS_TRIED[int(np.argmin(medians))]), medians
+    lead = float(LEADS_TRIED[int(np.argmin(medians))])
+    return SkeletonReference(lead, medians, late_skeleton_errors(skeletons, lead))
 
 
-def late_skeleton_errors(files: list[str], late: float) -> HandErrors:
-    """The skeleton's extended hands against the skeleton `late` frames earlier, held there and
-    extrapolated at its velocity over the frame before."""
+def late_skeleton_errors(skeletons: list[tuple[np.ndarray, np.ndarray]], late: float) -> HandErrors:
+    """The skeletons' (hands, body) extended hands against the skeleton `late` frames earlier, held
+    there and extrapolated at its velocity over the frame before."""
     out = HandErrors()
-    for path in files:
-        clip = Clip(path)
-        for i in range(int(np.ceil(late)) + 1, len(clip)):
-            seen, before = skeleton_at(clip.hands, i - late), skeleton_at(clip.hands, i - late - 1)
+    for hands, body in skeletons:
+        for i in range(int(np.ceil(late)) + 1, len(hands)):
+            seen, before = skeleton_at(hands, i - late), skeleton_at(hands, i - late - 1)
             for kind, guess in (("held", seen), ("extrapolated", seen + late * (seen - before))):
-                for p, q in zip(clip.hands[i], guess):
+                for p, q in zip(hands[i], guess):
                     if np.all(np.isfinite(q)):  # a skeleton that lost the hand guesses nothing
-                        out.add(kind, p, clip.body[i], float(np.linalg.norm(q - p)))
+                        out.add(kind, p, body[i], float(np.linalg.norm(q - p)))
     return out
 
 
@@ -189,7 +200,8 @@ def main() -> None:
     figures: dict = {}
     rows = []
     errors_by_geometry: dict = {}  # backends that see the same frames track them identically
-    lead, by_delay = skeleton_lead(files) if files else (0.0, [])
+    skeleton = skeleton_reference(files) if files else None
+    lead = skeleton.lead if skeleton else 0.0
     for cls in engine_backends():
         entry: dict = {}
         row: list = [cls.name]
@@ -210,10 +222,9 @@ def main() -> None:
         rows.append(row)
     if files:
         figures["skeleton_lead_frames"] = lead
-        figures["hand_to_depth_mm_by_delay"] = {f"{d:g}": m for d, m in zip(LEADS_TRIED, by_delay)}
-        late = late_skeleton_errors(files, lead)
+        figures["hand_to_depth_mm_by_delay"] = {f"{d:g}": m for d, m in zip(LEADS_TRIED, skeleton.hand_to_depth_mm)}
         for kind, name in (("held", f"skeleton {lead:g} frames late"), ("extrapolated", "... extrapolated")):
-            figures[f"late_skeleton_{kind}"], cells = late.row(kind)
+            figures[f"late_skeleton_{kind}"], cells = skeleton.late.row(kind)
             rows.append([name, "n/a", "n/a", "n/a", "n/a", *cells, "n/a", "n/a", "n/a"])
     columns = ["backend", "ms 320 p50", "p90", "ms 640 p50", "p90",
                "err p50", "p90", "found", "aligned p50", "p90", "found"]

@@ -6,10 +6,10 @@ or above the shoulders away from the head (wave, hand raise), and above the hips
 hands). Each connected patch of extended cells is one arm; its hand is the centre of the cells
 within a palm's reach of the patch's point farthest from where the patch joins the rest of the
 body without a depth jump (the elbow of a raised forearm, the shoulder of an outstretched arm),
-so a bent or crossing arm still ends in its hand. An arm has one hand:
-of two ends on one side of the spine the one farther from that side's shoulder is kept, an end
-beside and behind the trunk within an upper arm of its shoulder is an elbow, and an end within a
-forearm of the base of the neck is the head or a shoulder seen at an angle. All in mm.
+so a bent or crossing arm still ends in its hand. An arm has one hand: of two ends on one side
+of the spine the one farther from that side's shoulder is kept, an end beside and behind the
+trunk within an upper arm of its shoulder is an elbow, and an end within a forearm of the base
+of the neck is the head or a shoulder seen at an angle. All in mm.
 """
 from __future__ import annotations
 
