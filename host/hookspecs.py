@@ -31,6 +31,14 @@ def register_effects(register: Register) -> None:
 
 
 @hookspec
+def register_commands(register: Callable[[Any], None]) -> None:
+    """Hand over `issv` subcommands: `register(module)`, where the module (or any object) has
+    `HELP` (one line), `add_arguments(parser)` and `main(args) -> int`, and optionally `NAME`
+    (default: the module's last name with `_` as `-`). Keep such modules light to import: every
+    `issv` call imports them; import what the command needs inside `main`."""
+
+
+@hookspec
 def host_started(show: Any) -> None:
     """The show is running: sources opened, backend initialised, effects set up."""
 

@@ -10,7 +10,8 @@ import os
 import sys
 from dataclasses import dataclass
 from functools import cache
-from typing import Iterable
+from types import ModuleType
+from typing import Any, Iterable
 
 import pluggy
 
@@ -45,11 +46,29 @@ class Registered:
         return {"name": self.name, "available": reason is None, "reason": reason, "plugin": self.plugin}
 
 
+@dataclass(frozen=True)
+class RegisteredCommand:
+    """One `issv` subcommand and the plugin that handed it over."""
+
+    name: str
+    command: Any  # a module or object with HELP, add_arguments(parser), main(args) -> int
+    plugin: str
+
+
+def command_name(command: Any) -> str:
+    """A command's `NAME`, else its module's last name with `_` as `-`."""
+    if hasattr(command, "NAME"):
+        return command.NAME
+    module = command.__name__ if isinstance(command, ModuleType) else type(command).__module__
+    return module.rsplit(".", 1)[-1].replace("_", "-")
+
+
 class Registry:
     """Everything registered, by kind and name; refuses duplicates with a clear message."""
 
     def __init__(self) -> None:
         self.items: dict[str, dict[str, Registered]] = {kind: {} for kind in KINDS}
+        self.commands: dict[str, RegisteredCommand] = {}
         self.problems: list[str] = []
 
     def register(self, kind: str, cls: type, plugin: str) -> None:
@@ -64,6 +83,18 @@ class Registry:
             raise PluginError(f"plugin {plugin!r} registers {kind[:-1]} {cls.name!r}, "
                               f"already registered by plugin {existing.plugin!r}; rename one of them")
         self.items[kind][cls.name] = Registered(kind, cls.name, cls, plugin)
+
+    def register_command(self, command: Any, plugin: str) -> None:
+        """A subcommand handed over by `register_commands` (see host/hookspecs.py)."""
+        missing = [a for a in ("HELP", "add_arguments", "main") if not hasattr(command, a)]
+        if missing:
+            raise PluginError(f"plugin {plugin!r} registered command {command!r} without {', '.join(missing)}")
+        name = command_name(command)
+        existing = self.commands.get(name)
+        if existing is not None:
+            raise PluginError(f"plugin {plugin!r} registers command {name!r}, "
+                              f"already registered by plugin {existing.plugin!r}; rename one of them")
+        self.commands[name] = RegisteredCommand(name, command, plugin)
 
     def get(self, kind: str, name: str) -> Registered | None:
         return self.items[kind].get(name)
@@ -116,6 +147,11 @@ def collect(pm: pluggy.PluginManager) -> Registry:
                 impl.function(register=lambda cls, _k=kind, _p=impl.plugin_name: registry.register(_k, cls, _p))
             except Exception as error:
                 _report(f"plugin {impl.plugin_name!r} failed in register_{kind}: {type(error).__name__}: {error}")
+    for impl in pm.hook.register_commands.get_hookimpls():
+        try:
+            impl.function(register=lambda command, _p=impl.plugin_name: registry.register_command(command, _p))
+        except Exception as error:
+            _report(f"plugin {impl.plugin_name!r} failed in register_commands: {type(error).__name__}: {error}")
     return registry
 
 

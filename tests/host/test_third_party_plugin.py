@@ -40,6 +40,11 @@ def test_the_installed_plugin_runs_in_a_show(env_python, tmp_path):
     assert run.returncode == 0, run.stderr
     lines = (tmp_path / "log.txt").read_text().splitlines()
     assert [line.split()[1] for line in lines] == ["wave"]
+    # the plugin's own subcommand (register_commands) reads what its effect wrote
+    count = subprocess.run([env_python, "-m", "host", "gesture-log", str(tmp_path / "log.txt")],
+                           capture_output=True, text=True)
+    assert count.returncode == 0, count.stderr
+    assert count.stdout == "wave 1\n"
 
 
 def test_a_broken_plugin_is_named_and_skipped_unless_strict(tmp_path):

@@ -1,4 +1,8 @@
-"""A third-party issv plugin: appends every completed gesture to a text file."""
+"""A third-party issv plugin: appends every completed gesture to a text file, and adds the
+command `issv gesture-log FILE` that counts the gestures in such a file."""
+import argparse
+import sys
+from collections import Counter
 from pathlib import Path
 
 from pydantic import BaseModel, ConfigDict
@@ -29,6 +33,29 @@ class GestureLog(Effect):
         self._file.close()
 
 
+class GestureLogCommand:
+    """`issv gesture-log FILE`: how often each gesture was logged."""
+
+    NAME = "gesture-log"
+    HELP = "count the completed gestures in a gesture-log file"
+
+    @staticmethod
+    def add_arguments(parser: argparse.ArgumentParser) -> None:
+        parser.add_argument("file", type=Path, help="a file written by the gesture-log effect")
+
+    @staticmethod
+    def main(args: argparse.Namespace) -> int:
+        counts = Counter(line.split()[1] for line in args.file.read_text().splitlines() if line.strip())
+        for name, count in sorted(counts.items()):
+            sys.stdout.write(f"{name} {count}\n")
+        return 0
+
+
 @hookimpl
 def register_effects(register):
     register(GestureLog)
+
+
+@hookimpl
+def register_commands(register):
+    register(GestureLogCommand)
