@@ -1,17 +1,49 @@
-"""What every bench shares: argument parsing, percentiles and the table/JSON printout."""
+"""What every bench shares: argument parsing, the real data folder, percentiles and the table/JSON printout."""
 from __future__ import annotations
 
 import argparse
 import json
+import os
+import sys
+from pathlib import Path
 
 import numpy as np
 from rich.console import Console
 from rich.table import Table
 
 
-def parse_args(description: str, extra=None) -> argparse.Namespace:
+DATA_ENV = "ISSV_DATA"
+BESIDE_REPO = Path(__file__).resolve().parents[2] / "shared" / "data"  # a workspace's shared folder
+
+
+def default_data() -> Path | None:
+    """$ISSV_DATA, else ../shared/data beside the repo if it exists, else None."""
+    if os.environ.get(DATA_ENV, "").strip():
+        return Path(os.environ[DATA_ENV])
+    return BESIDE_REPO if BESIDE_REPO.is_dir() else None
+
+
+def add_data_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--data", type=Path, default=default_data(), metavar="DIR",
+                        help=f"the folder of real data sets (default: ${DATA_ENV}, then ../shared/data if present)")
+
+
+def data_set(args: argparse.Namespace, name: str, skipped: str) -> Path | None:
+    """The real data set `name` in --data, or None after one line saying what is skipped without it."""
+    root: Path | None = args.data
+    if root is not None and (root / name).is_dir():
+        return root / name
+    where = f"{root / name} does not exist" if root is not None else f"no --data DIR and no ${DATA_ENV}"
+    print(f"bench: {where}: skipping {skipped}", file=sys.stderr)
+    return None
+
+
+def parse_args(description: str, extra=None, data: bool = False) -> argparse.Namespace:
+    """--json, --data DIR when the bench reads real data sets (`data`), and the bench's own options."""
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--json", action="store_true", help="print one JSON object of the figures")
+    if data:
+        add_data_argument(parser)
     if extra is not None:
         extra(parser)
     return parser.parse_args()

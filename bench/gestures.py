@@ -1,6 +1,6 @@
 """Gesture recognition: precision, recall, F1 and latency, on real recordings and synthetic shows.
 
-(a) real: the UTD-MHAD dev recordings (../shared/data/utd-mhad-dev), one performance per clip:
+(a) real: the UTD-MHAD dev recordings (utd-mhad-dev in --data), one performance per clip:
     the recogniser alone on the skeleton's hand trajectories (CSV, as `issv gestures` reads them)
     and the whole backend on the depth clips (as `issv track`). A clip of gesture g counts as a
     true positive if g completes in it; g completing in a clip of another scored action (the
@@ -33,12 +33,12 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import parse_args, percentiles, report
+from bench.common import data_set, parse_args, percentiles, report
 from host import GestureState
 from host.commands.gestures import TrajectoryFrame, read_trajectories
 from host.plugins import default_registry
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "utd-mhad-dev"
+DATA = Path("utd-mhad-dev")  # in the --data folder (main() resolves it)
 POSITIVE = {"swipe_left": "swipe_left", "swipe_right": "swipe_right", "wave": "wave", "push": "click"}
 MIRROR_IMAGE = {"swipe_left": "swipe_right", "swipe_right": "swipe_left"}
 NEGATIVE = {"clap", "arm_curl", "jog", "walk", "sit2stand", "stand2sit", "lunge", "squat"}
@@ -373,7 +373,15 @@ def main() -> None:
         p.add_argument("--quick", action="store_true", help="recogniser only: no depth tracking (faster)")
         p.add_argument("--clips", type=int, default=None, help="at most this many real depth clips")
 
-    args = parse_args(__doc__.splitlines()[0], extra)
+    global DATA
+    args = parse_args(__doc__.splitlines()[0], extra, data=True)
+    DATA = data_set(args, "utd-mhad-dev", "(a) and (c), every real UTD-MHAD row")
+    if DATA is None:
+        figures = {"backend": args.backend, "synthetic": synthetic(args.backend, PERFORMERS, not args.quick)}
+        rows = [r for kind, gestures in figures["synthetic"]["overall"].items() for r in rows_of(SECTION[kind], gestures)]
+        report(f"gestures, backend {args.backend} (synthetic only)", figures, rows,
+               ["data", "gesture", "precision", "recall", "F1", "tp/fp/fn", "latency p50/p90"], args.json)
+        return
     figures = {"backend": args.backend, "real_trajectories": real_trajectories(args.backend)}
     if not args.quick:
         figures["real_clips"] = real_clips(args.backend, args.clips)

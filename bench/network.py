@@ -35,11 +35,10 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import report
+from bench.common import add_data_argument, data_set, report
 from host import DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics, Side
 
 ROOT = Path(__file__).resolve().parents[1]
-CLIPS = ROOT.parent / "shared" / "data" / "utd-mhad-dev" / "clips"
 RATE_BPS = 100e6  # tc's "100mbit": 100,000,000 bit/s of whole Ethernet frames
 MSS, FRAME_HEADERS = 1448, 66  # TCP payload per segment at MTU 1500 (with timestamps); Ethernet + IP + TCP
 
@@ -61,11 +60,13 @@ def _mm_to_raw(z):
     return (3.3309495161 - 1000.0 / z) / 0.0030711016
 
 
-def kinect_like(n: int, size: tuple[int, int] = (640, 480), seed: int = 0) -> list[np.ndarray]:
+def kinect_like(n: int, size: tuple[int, int] = (640, 480), seed: int = 0,
+                clips: Path | None = None) -> list[np.ndarray]:
     """`n` depth images of a room (back wall 4.2 m, floor, side wall, 40 boxes) with a real
     performer from a UTD-MHAD clip in front, seen through Kinect v1's 11-bit disparity with one
-    unit of noise, 1 % dropouts and shadow bands at depth edges. A model, not a recording: the
-    codec table also reports the real (background-removed, 320x240) clips."""
+    unit of noise, 1 % dropouts and shadow bands at depth edges (no performer when `clips`, the
+    UTD-MHAD clips folder, is None). A model, not a recording: the codec table also reports the
+    real (background-removed, 320x240) clips."""
     w, h = size
     rng = np.random.default_rng(seed)
     v, u = np.mgrid[0:h, 0:w].astype(np.float64)
@@ -76,7 +77,7 @@ def kinect_like(n: int, size: tuple[int, int] = (640, 480), seed: int = 0) -> li
     for _ in range(40):
         x0, y0 = rng.integers(0, w - 40), rng.integers(0, h - 40)
         z[y0:y0 + rng.integers(10, 120), x0:x0 + rng.integers(10, 160)] = rng.uniform(1500, 4000)
-    performer = np.load(sorted(glob.glob(str(CLIPS / "*wave*.npz")))[0])["depth"] if CLIPS.exists() else None
+    performer = np.load(sorted(glob.glob(str(clips / "*wave*.npz")))[0])["depth"] if clips is not None else None
     out = []
     for i in range(n):
         zz = z
@@ -93,9 +94,9 @@ def kinect_like(n: int, size: tuple[int, int] = (640, 480), seed: int = 0) -> li
     return out
 
 
-def stream(seconds: float, fps: float = 30.0, size: tuple[int, int] = (640, 480)):
+def stream(seconds: float, fps: float = 30.0, size: tuple[int, int] = (640, 480), clips: Path | None = None):
     """Frames paced at `fps` (capture time = now), each with two hands and one gesture event."""
-    images = kinect_like(30, size)
+    images = kinect_like(30, size, clips=clips)
     intr = Intrinsics.from_fov(size[0], size[1], 57, 43)
     types = list(GestureType)
     start = time.perf_counter()
@@ -184,7 +185,7 @@ def publish_main(args: argparse.Namespace) -> int:
         print("bench publisher: no subscriber came", file=sys.stderr)
     time.sleep(0.5)  # the depth subscription travels on its own connection
     frames = 0
-    for frame in stream(args.seconds, size=tuple(args.size)):
+    for frame in stream(args.seconds, size=tuple(args.size), clips=utd_clips(args, quiet=True)):
         pub.publish(frame)
         frames += 1
     time.sleep(0.5)  # let the last depth images leave before saying goodbye
@@ -238,7 +239,7 @@ def _wait_line(proc: subprocess.Popen, text: str, timeout: float, stream: str = 
     raise RuntimeError(f"a bench process did not say {text!r}")
 
 
-def run_case(transport: str, shaped: bool, seconds: float) -> dict:
+def run_case(transport: str, shaped: bool, seconds: float, data: Path | None = None) -> dict:
     """One row: publisher and subscriber processes over loopback or the shaped veth pair."""
     link = LinkPair() if shaped else None
     procs: list[subprocess.Popen] = []
@@ -265,7 +266,7 @@ def run_case(transport: str, shaped: bool, seconds: float) -> dict:
             addr = master
         else:
             addr = f"tcp://{host_a}:{port}"
-        py = [sys.executable, "-m", "bench.network"]
+        py = [sys.executable, "-m", "bench.network", *(["--data", str(data)] if data is not None else [])]
         sub = subprocess.Popen([*pre_b, *py, "subscribe", "--connect", addr, "--transport", transport,
                                 "--timeout", str(seconds + 30)], env=env_b, stdout=subprocess.PIPE,
                                stderr=subprocess.PIPE, text=True, cwd=ROOT, start_new_session=True)
@@ -305,11 +306,11 @@ def _row(transport: str, shaped: bool, sent: dict, got: dict) -> dict:
             "malformed": got["malformed"]}
 
 
-def codecs_table() -> list[dict]:
+def codecs_table(clips_dir: Path | None) -> list[dict]:
     from backends.network import wire
     from sources.clip import Clip
-    sets = {"kinect-like 640x480": kinect_like(10)}
-    clips = sorted(CLIPS.glob("*.npz"))[:20]
+    sets = {"kinect-like 640x480": kinect_like(10, clips=clips_dir)}
+    clips = sorted(clips_dir.glob("*.npz"))[:20] if clips_dir is not None else []
     if clips:
         sets["UTD-MHAD clips 320x240"] = [Clip(p).depth[len(Clip(p)) // 2] for p in clips]
     rows = []
@@ -331,6 +332,14 @@ def codecs_table() -> list[dict]:
     return rows
 
 
+def utd_clips(args: argparse.Namespace, quiet: bool = False) -> Path | None:
+    """The UTD-MHAD clips in --data (a real performer in the kinect-like images, the real codec rows)."""
+    if quiet and (args.data is None or not (args.data / "utd-mhad-dev").is_dir()):
+        return None
+    utd = data_set(args, "utd-mhad-dev", "the real performer in the kinect-like images and the real codec rows")
+    return utd / "clips" if utd is not None else None
+
+
 def table_main(args: argparse.Namespace) -> int:
     from backends.network.ros import rospy_missing
     notes = []
@@ -344,8 +353,9 @@ def table_main(args: argparse.Namespace) -> int:
         links.append(True)
     else:
         notes.append(f"100 Mbit/s skipped: {why}")
-    rows = [run_case(t, shaped, args.seconds) for t in transports for shaped in links]
-    codecs = codecs_table()
+    clips = utd_clips(args)
+    rows = [run_case(t, shaped, args.seconds, args.data) for t in transports for shaped in links]
+    codecs = codecs_table(clips)
     figures = {"cases": rows, "codecs": codecs, "notes": notes, "seconds": args.seconds,
                "thesis_table16": {"100 Mbps": {"depth": 35, "gesture": 0, "hands": 0},
                                   "1 Gbps": {"depth": 0, "gesture": 0, "hands": 0}}}
@@ -391,6 +401,7 @@ def main(argv: list[str] | None = None) -> int:
     s.add_argument("--timeout", type=float, default=60.0)
     s.add_argument("--dump", metavar="FILE.npz", help="save the depth images received (frame_ids, depth)")
     parser.add_argument("--json", action="store_true", help="print one JSON object of the figures")
+    add_data_argument(parser)
     parser.add_argument("--seconds", type=float, default=20.0,
                         help="length of each case (default 20: 600 frames, so a p99 rests on 6 samples)")
     parser.add_argument("--only", choices=("zmq", "ros"), help="one transport only")

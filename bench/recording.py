@@ -10,12 +10,12 @@ import time
 from pathlib import Path
 
 from backends.truth import TruthBackend
-from bench.common import parse_args, percentiles, report
+from bench.common import data_set, parse_args, percentiles, report
 from host.recording import Recording, RecordingWriter
 from sources.clip import ClipOptions, ClipSource
 from sources.synthetic import SyntheticOptions, SyntheticSource
 
-CLIP = Path(__file__).resolve().parents[2] / "shared" / "data" / "utd-mhad-dev" / "clips" / "a1_s1_t1_swipe_left.npz"
+CLIP = "clips/a1_s1_t1_swipe_left.npz"  # in the UTD-MHAD dev set
 
 
 def measure(name: str, source, frames: int) -> dict:
@@ -44,10 +44,11 @@ def measure(name: str, source, frames: int) -> dict:
 def main() -> None:
     def extra(p):
         p.add_argument("--frames", type=int, default=150, help="frames per case")
-    args = parse_args(__doc__, extra)
+    args = parse_args(__doc__, extra, data=True)
     cases = {"synthetic 640x480": SyntheticSource(SyntheticOptions(seed=1))}
-    if CLIP.exists():
-        cases["UTD-MHAD clip 320x240"] = ClipSource(ClipOptions(path=str(CLIP), loop=True))
+    utd = data_set(args, "utd-mhad-dev", "the real UTD-MHAD clip row")
+    if utd is not None:
+        cases["UTD-MHAD clip 320x240"] = ClipSource(ClipOptions(path=str(utd / CLIP), loop=True))
     figures, rows = {}, []
     for name, source in cases.items():
         m = figures[name] = measure(name, source, args.frames)

@@ -3,7 +3,7 @@
 (a) speed: each engine backend's per-frame work (geometry conversion + HandTracker.process; the
     gesture recogniser is timed by bench.gestures) on the synthetic performer's default show,
     rendered beforehand at 320x240 and 640x480 (rendering is not timed), pinned to one core.
-(b) accuracy: on the UTD-MHAD dev clips (../shared/data/utd-mhad-dev), in the frames where a
+(b) accuracy: on the UTD-MHAD dev clips (utd-mhad-dev in --data), in the frames where a
     skeleton hand is extended (score.py's rule: 200 mm in front of the spine, 350 mm beside it, or
     above the head), the share with a reported hand within 250 mm and the distance to the nearest
     one (median, p90): the plain figure is what score.py measures.
@@ -23,20 +23,18 @@ import os
 import time
 from collections import Counter, defaultdict
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import cv2
 import numpy as np
 
 from backends.engine.backend import EngineBackend
 from backends.engine.geometry import to_geometry
-from bench.common import parse_args, percentiles, report
+from bench.common import data_set, parse_args, percentiles, report
 from host import Intrinsics
 from host.plugins import default_registry
 from sources.clip import Clip
 from sources.synthetic import SyntheticOptions, SyntheticSource
 
-CLIPS = Path(__file__).resolve().parents[2] / "shared" / "data" / "utd-mhad-dev" / "clips"
 SIZES = ((320, 240), (640, 480))
 LEADS_TRIED = np.arange(0.5, 2.51, 0.125)  # frames: where the skeleton's lead is looked for
 SURFACE_WINDOW_PX = 25  # depth readings this many pixels around a projected hand joint are searched
@@ -193,10 +191,11 @@ def late_skeleton_errors(skeletons: list[tuple[np.ndarray, np.ndarray]], late: f
 
 
 def main() -> None:
-    args = parse_args(__doc__.splitlines()[0])
+    args = parse_args(__doc__.splitlines()[0], data=True)
     one_core()
     rendered = {size: synthetic_frames(size) for size in SIZES}
-    files = sorted(glob.glob(str(CLIPS / "*.npz")))
+    utd = data_set(args, "utd-mhad-dev", "(b) accuracy on the real UTD-MHAD clips")
+    files = sorted(glob.glob(str(utd / "clips" / "*.npz"))) if utd is not None else []
     figures: dict = {}
     rows = []
     errors_by_geometry: dict = {}  # backends that see the same frames track them identically

@@ -1,12 +1,40 @@
-"""Shared fixtures: small depth clips written to real files, in-process plugins."""
+"""Shared fixtures: small depth clips written to real files, the real data sets (ISSV_DATA)."""
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-REAL_CLIPS = Path(__file__).resolve().parents[2] / "shared" / "data" / "utd-mhad-dev" / "clips"
+DATA_ENV = "ISSV_DATA"
+NO_DATA = f"needs the real recordings: set {DATA_ENV} to the data folder (.ci/run sets it to ../shared/data)"
+
+
+def data_root() -> Path | None:
+    """The folder of real data sets named by $ISSV_DATA, or None when it is unset or not a folder."""
+    value = os.environ.get(DATA_ENV, "").strip()
+    return Path(value) if value and Path(value).is_dir() else None
+
+
+def real_data(*parts: str) -> Path:
+    """A file or folder of the real data sets (e.g. `real_data("utd-mhad-dev", "clips")`).
+
+    Without $ISSV_DATA the calling test is skipped, always with the one reason NO_DATA; with it,
+    a missing part fails the test naming the path (the data folder is incomplete)."""
+    root = data_root()
+    if root is None:
+        pytest.skip(NO_DATA)
+    path = root.joinpath(*parts)
+    if not path.exists():
+        pytest.fail(f"{path} is missing from {DATA_ENV}={root}; see that folder's README.md")
+    return path
+
+
+@pytest.fixture
+def issv_data() -> Path:
+    """The real data folder ($ISSV_DATA); the test is skipped without it."""
+    return real_data()
 
 
 def write_clip(path: Path, frames: int = 30, size: tuple[int, int] = (320, 240), fps: float = 30.0) -> Path:

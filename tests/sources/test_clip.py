@@ -3,7 +3,7 @@ import pytest
 
 from host.errors import UserError
 from sources.clip import ClipSource
-from tests.conftest import REAL_CLIPS, write_clip
+from tests.conftest import real_data, write_clip
 
 
 def frames_of(path, **options):
@@ -39,9 +39,8 @@ def test_corrupt_and_incomplete_clips_say_what_is_wrong(tmp_path):
         frames_of(partial)
 
 
-@pytest.mark.skipif(not REAL_CLIPS.is_dir(), reason="the real UTD-MHAD dev clips are not beside the repo (../shared/data)")
 def test_the_real_clips_play_with_their_truth():
-    path = sorted(REAL_CLIPS.glob("*swipe_left*.npz"))[0]
+    path = sorted(real_data("utd-mhad-dev", "clips").glob("*swipe_left*.npz"))[0]
     source = frames_of(path)
     first = source.read()
     assert (first.width, first.height) == (320, 240) and first.mirrored

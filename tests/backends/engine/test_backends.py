@@ -22,7 +22,7 @@ from host.errors import UserError
 from host.plugins import default_registry
 from tests.backends.engine.performer import WAVE_THEN_REST, frames, swipe_cut_short, write_clip
 from sources.clip import ClipSource
-from tests.conftest import REAL_CLIPS
+from tests.conftest import real_data
 
 NITE_TYPES = set(NITE_DICTIONARY.values())
 NUITRACK_TYPES = set(NUITRACK_DICTIONARY.values())
@@ -293,9 +293,7 @@ def test_track_names_the_clip_and_the_frame_a_backend_raises_on(clips):
 
 
 def test_track_a_real_kinect_clip():
-    clip = REAL_CLIPS / "a3_s1_t1_wave.npz"
-    if not clip.exists():
-        pytest.skip(f"real clips not found at {REAL_CLIPS} (see ../shared/data/utd-mhad-dev/README.md)")
+    clip = real_data("utd-mhad-dev", "clips", "a3_s1_t1_wave.npz")
     result = issv("track", str(clip))
     assert result.returncode == 0, result.stderr
     lines = [json.loads(line) for line in result.stdout.splitlines()]

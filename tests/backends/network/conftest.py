@@ -1,4 +1,7 @@
-"""Real processes on real sockets: `issv serve` in a subprocess, free ports, clip profiles."""
+"""Real processes on real sockets: `issv serve` in a subprocess, free ports, clip profiles.
+
+The served clip is made here: the synthetic performer's wave, rendered once per session and
+written as a depth clip with its hand truth (no recording from outside the repo is needed)."""
 from __future__ import annotations
 
 import os
@@ -7,14 +10,16 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
 import pytest
 
+from tests.backends.engine.performer import WAVE_THEN_REST, frames, write_clip
+
 ROOT = Path(__file__).resolve().parents[3]
-CLIPS = ROOT.parent / "shared" / "data" / "utd-mhad-dev" / "clips"
-CLIP = CLIPS / "a10_s1_t1_draw_circle_ccw.npz"
+START_S = 30  # an `issv serve` that has not said "publishing" by then has failed
 
 
 def free_ports(n: int = 2) -> int:
@@ -40,35 +45,96 @@ def free_ports(n: int = 2) -> int:
     raise RuntimeError("no free pair of ports")
 
 
-def clip_profile(tmp: Path, clip: Path = CLIP, loop: bool = True, backend: str = "truth") -> Path:
+@pytest.fixture(scope="session")
+def performer_clip(tmp_path_factory) -> Path:
+    """A 320x240 depth clip of the synthetic performer waving, with both hands' truth."""
+    path = tmp_path_factory.mktemp("performer") / "wave.npz"
+    return write_clip(path, frames(WAVE_THEN_REST, width=320, height=240, background="none"))
+
+
+def clip_profile(tmp: Path, clip: Path, loop: bool = True, backend: str = "truth") -> Path:
     path = tmp / "serve.toml"
     path.write_text(f'[source]\nname = "clip"\npath = "{clip}"\nloop = {str(loop).lower()}\n'
                     f'[backend]\nname = "{backend}"\n')
     return path
 
 
+def wait_for_line(proc: subprocess.Popen, marker: str, what: str, timeout: float = START_S,
+                  stream=None) -> list[str]:
+    """The lines `proc` writes to `stream` (default its stderr) up to the first one holding `marker`.
+
+    A helper process that exits first, or says nothing of the kind within `timeout` seconds, fails
+    the test at once with everything it wrote: no test waits without a bound."""
+    stream = stream if stream is not None else proc.stderr
+    lines: list[str] = []
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        ready, _, _ = select.select([stream], [], [], 0.2)
+        if ready:
+            line = stream.readline()
+            if line:
+                lines.append(line)
+                if marker in line:
+                    return lines
+                continue
+        if proc.poll() is not None:  # exited (or closed its stream) without the marker
+            break
+    if proc.poll() is None:
+        proc.kill()
+        proc.wait()
+        why = f"said nothing with {marker!r} in {timeout:.0f} s"
+    else:
+        why = f"exited with status {proc.returncode}"
+    rest = stream.read() or ""
+    err = proc.stderr.read() if proc.stderr is not None and proc.stderr is not stream else ""
+    pytest.fail(f"{what} did not start ({why}):\n{''.join(lines)}{rest}{err or ''}", pytrace=False)
+
+
+class HelperDied(Exception):
+    """A helper process the test relies on (an `issv serve`) failed while the test ran."""
+
+
+def _raise_helper_died(signum, frame) -> None:
+    raise HelperDied(Serve.last_failure)
+
+
 class Serve:
-    """`issv serve` in a subprocess; waits until it says it is publishing."""
+    """`issv serve` in a subprocess; waits until it says it is publishing (fails the test if it cannot).
+
+    Its stderr is drained on a thread. If it then fails (exits non-zero without being stopped), the
+    test's main thread is interrupted with HelperDied carrying that stderr, even while it blocks in
+    a subscriber waiting for frames that will never come."""
+
+    last_failure = ""
 
     def __init__(self, *args: str, prefix: tuple[str, ...] = (), env: dict | None = None) -> None:
         cmd = [*prefix, sys.executable, "-m", "host", "serve", *args]
+        self.what = f"issv serve {' '.join(args)}"
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT,
                                      env={**os.environ, **(env or {})})
-        self.lines: list[str] = []
-        deadline = time.time() + 30
-        while time.time() < deadline:
-            ready, _, _ = select.select([self.proc.stderr], [], [], 0.5)
-            if ready:
-                text = self.proc.stderr.readline()
-                self.lines.append(text)
-                if "publishing" in text:
-                    return
-            if self.proc.poll() is not None:
-                break
-        self.stop()
-        raise RuntimeError(f"issv serve did not start: {''.join(self.lines)}{self.proc.stderr.read()}")
+        self.lines = wait_for_line(self.proc, "publishing", self.what)
+        self.stopping = False
+        signal.signal(signal.SIGUSR1, _raise_helper_died)
+        self._main = threading.main_thread().ident
+        self._drain = threading.Thread(target=self._watch, daemon=True)
+        self._drain.start()
+
+    def _watch(self) -> None:
+        for line in self.proc.stderr:
+            self.lines.append(line)
+        status = self.proc.wait()
+        if status != 0 and not self.stopping:
+            Serve.last_failure = f"{self.what} failed (status {status}):\n{''.join(self.lines)}"
+            signal.pthread_kill(self._main, signal.SIGUSR1)
+
+    def kill(self) -> None:
+        """End it the hard way (no goodbye), on purpose."""
+        self.stopping = True
+        self.proc.send_signal(signal.SIGKILL)
+        self.proc.wait()
 
     def stop(self) -> str:
+        self.stopping = True
         if self.proc.poll() is None:
             self.proc.send_signal(signal.SIGINT)
             try:
@@ -76,7 +142,8 @@ class Serve:
             except subprocess.TimeoutExpired:
                 self.proc.kill()
                 self.proc.wait()
-        return "".join(self.lines) + (self.proc.stderr.read() or "")
+        self._drain.join(timeout=10)
+        return "".join(self.lines)
 
 
 @pytest.fixture

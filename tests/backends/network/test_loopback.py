@@ -2,11 +2,11 @@
 from __future__ import annotations
 
 import json
-import signal
 import socket
 import subprocess
 import sys
 import textwrap
+import time
 
 import numpy as np
 import pytest
@@ -14,24 +14,25 @@ import pytest
 from backends.network.backend import NetworkBackend, NetworkOptions
 from sources.clip import Clip
 from tests.backends.engine.performer import swipe_cut_short
-from tests.backends.network.conftest import CLIP, ROOT, clip_profile, free_ports
+from tests.backends.network.conftest import (START_S, ROOT, HelperDied, Serve, clip_profile, free_ports,
+                                            wait_for_line)
 
 
 def subscriber(port: int, **options) -> NetworkBackend:
     return NetworkBackend(None, NetworkOptions(connect=f"tcp://127.0.0.1:{port}", **options))
 
 
-def test_frames_arrive_whole_depth_bit_exact(serve, tmp_path):
+def test_frames_arrive_whole_depth_bit_exact(serve, tmp_path, performer_clip):
     port = free_ports()
     stats_file = tmp_path / "sent.json"
-    server = serve(str(clip_profile(tmp_path, loop=False)), "--bind", f"tcp://127.0.0.1:{port}",
+    server = serve(str(clip_profile(tmp_path, performer_clip, loop=False)), "--bind", f"tcp://127.0.0.1:{port}",
                    "--stats-json", str(stats_file))
-    clip = Clip(CLIP)
+    clip = Clip(performer_clip)
     truth = {tuple(p) for row in clip.hands for p in row}
     with subscriber(port, end_with_publisher=True, depth_wait_ms=500) as backend:
         frames = list(iter(backend.update, None))
         stats = backend.stats()
-    assert len(frames) >= 40  # the clip is 76 frames; a late joiner may miss the first few
+    assert len(frames) >= 40  # the clip is 132 frames; a late joiner may miss the first few
     with_depth = [f for f in frames if f.depth is not None]
     assert len(with_depth) >= len(frames) - 2
     for f in with_depth:
@@ -45,7 +46,7 @@ def test_frames_arrive_whole_depth_bit_exact(serve, tmp_path):
     assert stats["streams"]["hands"]["received"] == len(frames)
     server.proc.wait(timeout=20)  # it writes its stats after saying goodbye
     sent = json.loads(stats_file.read_text())
-    assert sent["sent"]["hands"] == 76 and sent["compression"] > 1
+    assert sent["sent"]["hands"] == len(clip) and sent["compression"] > 1
 
 
 def test_a_swipe_the_clip_ends_on_arrives_before_the_stream_ends(serve, tmp_path):
@@ -63,6 +64,7 @@ BURST = textwrap.dedent("""
     from backends.network.publisher import Publisher, DepthOptions
     from host import Frame, Gesture, GestureState, GestureType, Side
     pub = Publisher(sys.argv[1], DepthOptions(enabled=False), "burst")
+    print("burst: bound", file=sys.stderr, flush=True)
     assert pub.wait_for_subscriber(20)
     k = 0
     for i in range(3000):
@@ -77,7 +79,9 @@ BURST = textwrap.dedent("""
 
 def test_gestures_arrive_exactly_once_and_in_order_under_a_burst():
     port = free_ports()
-    proc = subprocess.Popen([sys.executable, "-c", BURST, f"tcp://127.0.0.1:{port}"], cwd=ROOT)
+    proc = subprocess.Popen([sys.executable, "-c", BURST, f"tcp://127.0.0.1:{port}"], cwd=ROOT,
+                            stderr=subprocess.PIPE, text=True)
+    wait_for_line(proc, "bound", "the burst publisher")
     try:
         with subscriber(port, end_with_publisher=True) as backend:
             got = [g.timestamp for f in iter(backend.update, None) for g in f.gestures]
@@ -88,14 +92,13 @@ def test_gestures_arrive_exactly_once_and_in_order_under_a_burst():
     assert stats["streams"]["gestures"]["lost"] == 0 and stats["streams"]["gestures"]["duplicates"] == 0
 
 
-def test_reconnects_after_the_publisher_restarts_and_says_so_once(serve, tmp_path, capsys):
+def test_reconnects_after_the_publisher_restarts_and_says_so_once(serve, tmp_path, capsys, performer_clip):
     port = free_ports()
-    profile = str(clip_profile(tmp_path, loop=True))
+    profile = str(clip_profile(tmp_path, performer_clip, loop=True))
     first = serve(profile, "--bind", f"tcp://127.0.0.1:{port}")
     with subscriber(port) as backend:
         before = [backend.update() for _ in range(10)]
-        first.proc.send_signal(signal.SIGKILL)  # no goodbye: the hard case
-        first.proc.wait()
+        first.kill()  # no goodbye: the hard case
         serve(profile, "--bind", f"tcp://127.0.0.1:{port}")
         after = [backend.update() for _ in range(10)]
         stats = backend.stats()
@@ -125,3 +128,21 @@ def test_serve_and_run_side_by_side_with_no_edits(serve, tmp_path):
     m = json.loads(metrics.read_text())
     assert m["backend"] == "network" and m["frames"] >= 30
     assert "hands" in run.stderr and "0 lost" in run.stderr
+
+
+def test_a_serve_that_cannot_start_fails_the_test_at_once_with_its_stderr(tmp_path):
+    began = time.monotonic()
+    with pytest.raises(pytest.fail.Exception, match=r"(?s)did not start \(exited.*no-such\.toml"):
+        Serve(str(tmp_path / "no-such.toml"))
+    assert time.monotonic() - began < START_S
+
+
+def test_a_serve_that_fails_after_starting_interrupts_a_waiting_subscriber(serve, tmp_path):
+    """Its source is missing: it says it is publishing, then fails; the blocked subscriber is freed."""
+    port = free_ports()
+    serve(str(clip_profile(tmp_path, tmp_path / "gone.npz", loop=False)), "--bind", f"tcp://127.0.0.1:{port}")
+    began = time.monotonic()
+    with pytest.raises(HelperDied, match="gone.npz"):
+        with subscriber(port) as backend:
+            backend.update()
+    assert time.monotonic() - began < START_S

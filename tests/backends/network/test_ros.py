@@ -14,10 +14,24 @@ import pytest
 
 from backends.network.ros import rospy_missing
 from sources.clip import Clip
-from tests.backends.network.conftest import CLIP, ROOT, Serve, clip_profile, free_ports
+from tests.backends.network.conftest import ROOT, Serve, clip_profile, free_ports, wait_for_line
 
 REASON = rospy_missing()
 pytestmark = pytest.mark.skipif(REASON is not None, reason=f"ROS: {REASON}")
+
+
+def stop_group(proc: subprocess.Popen) -> None:
+    """SIGINT to the process group (roscore's children with it), SIGKILL if it lingers; gone is fine."""
+    for sig, wait in ((signal.SIGINT, 15), (signal.SIGKILL, None)):
+        try:
+            os.killpg(proc.pid, sig)
+        except ProcessLookupError:
+            break
+        try:
+            proc.wait(timeout=wait)
+            break
+        except subprocess.TimeoutExpired:
+            continue
 
 
 @pytest.fixture
@@ -26,24 +40,15 @@ def roscore():
     master = f"http://127.0.0.1:{port}"
     env = {**os.environ, "ROS_MASTER_URI": master, "ROS_IP": "127.0.0.1", "ROS_HOME": "/tmp/issv-ros-test"}
     core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.DEVNULL, text=True, start_new_session=True)
+                            stderr=subprocess.STDOUT, text=True, start_new_session=True)
     try:
-        for line in core.stdout:
-            if "started core service" in line:
-                break
-        else:
-            pytest.fail("roscore did not start")
+        wait_for_line(core, "started core service", "roscore", stream=core.stdout)
         yield env
     finally:
-        os.killpg(core.pid, signal.SIGINT)
-        try:
-            core.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            os.killpg(core.pid, signal.SIGKILL)
-            core.wait()
+        stop_group(core)
 
 
-def test_serve_over_ros_to_the_network_backend(roscore, tmp_path):
+def test_serve_over_ros_to_the_network_backend(roscore, tmp_path, performer_clip):
     master = roscore["ROS_MASTER_URI"]
     subs = {}
     for kind in ("frame", "image"):
@@ -51,11 +56,9 @@ def test_serve_over_ros_to_the_network_backend(roscore, tmp_path):
             [sys.executable, "-m", "bench.network", "subscribe", "--transport", "ros", "--connect", master,
              "--ros-depth", kind, "--timeout", "40", "--dump", str(tmp_path / f"{kind}.npz")],
             cwd=ROOT, env=roscore, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    for proc in subs.values():  # both subscribed before the publisher starts
-        for line in proc.stderr:
-            if "subscribed" in line:
-                break
-    server = Serve(str(clip_profile(tmp_path, loop=True)), "--transport", "ros", "--bind", master,
+    for kind, proc in subs.items():  # both subscribed before the publisher starts
+        wait_for_line(proc, "subscribed", f"the ROS {kind} subscriber")
+    server = Serve(str(clip_profile(tmp_path, performer_clip, loop=True)), "--transport", "ros", "--bind", master,
                    "--seconds", "4", env=roscore)
     try:
         results = {k: p.communicate(timeout=60) for k, p in subs.items()}
@@ -64,7 +67,7 @@ def test_serve_over_ros_to_the_network_backend(roscore, tmp_path):
         for p in subs.values():
             if p.poll() is None:
                 p.kill()
-    clip = Clip(CLIP)
+    clip = Clip(performer_clip)
     for kind, (out, err) in results.items():
         got = json.loads(out.strip().splitlines()[-1])
         streams = got["streams"]

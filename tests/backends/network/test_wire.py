@@ -8,7 +8,6 @@ from backends.network import wire
 from backends.network.publisher import DepthOptions, endpoints
 from host import DepthFrame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics, Side
 from sources.clip import Clip
-from tests.backends.network.conftest import CLIP
 
 
 def noisy_depth(seed: int = 1) -> np.ndarray:
@@ -20,8 +19,8 @@ def noisy_depth(seed: int = 1) -> np.ndarray:
 
 
 @pytest.mark.parametrize("codec", sorted(wire.CODECS))
-def test_every_codec_gives_back_the_exact_image(codec):
-    images = [noisy_depth(), Clip(CLIP).depth[10]]
+def test_every_codec_gives_back_the_exact_image(codec, performer_clip):
+    images = [noisy_depth(), Clip(performer_clip).depth[10]]
     for img in images:
         blob = wire.CODECS[codec].encode(img)
         assert np.array_equal(wire.CODECS[codec].decode(blob, img.shape), img)
