@@ -126,7 +126,7 @@ class DepthVariation:
         return MIRROR_IMAGE.get(label, label) if self.left_handed else label
 
     def apply(self, clip, rng: np.random.Generator) -> dict[str, np.ndarray]:
-        """The clip's arrays (DESIGN.md's depth clip format) as this performer would give them."""
+        """The clip's arrays (the depth clip format of docs/architecture.md) as this performer would give them."""
         kept = len(clip) - int(round(self.ends_sooner_s * clip.fps))
         index = np.clip(np.round(np.arange(0, kept, 1 / self.tempo)).astype(int), 0, kept - 1)
         k = clip.intrinsics

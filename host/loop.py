@@ -1,6 +1,6 @@
 """The frame loop: a sensor thread drives the backend, the show loop drives the effects.
 
-Two paths, kept apart on purpose (DESIGN.md, STYLE.md):
+Two paths, kept apart on purpose (docs/architecture.md, The frame loop):
 - hands and depth travel in `Latest`, a one-frame slot: the newest frame wins, older ones are
   counted as dropped (the show loop may run slower or faster than the sensor);
 - gesture events travel in `GestureQueue`, a FIFO that is never trimmed: every effect sees every

@@ -1,4 +1,4 @@
-"""The data model every part of issv speaks (DESIGN.md, thesis Fig. 32-33).
+"""The data model every part of issv speaks (docs/architecture.md, thesis Fig. 32-33).
 
 Positions are millimetres in camera coordinates: x right (towards the image's right), y up,
 z away from the camera. Times are seconds. Frames and events are immutable so that the sensor

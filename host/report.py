@@ -214,7 +214,8 @@ def write(out_dir: Path, info: RecordingInfo, runs: list[Run]) -> Path:
                    _table(["", *(f"`{r.backend}`" for r in ok)], [[f"`{r.backend}`", *(_cell(v, ".2f") for v in row)]
                                                                   for r, row in zip(ok, agree)]),
                    "", "![agreement](agreement.png)"]
-    md += ["", "Every gesture event of every backend is in `gestures.jsonl` (event lines of DESIGN.md plus `backend`).", ""]
+    md += ["", "Every gesture event of every backend is in `gestures.jsonl` "
+           "(event lines of docs/architecture.md plus `backend`).", ""]
     with open(out_dir / "gestures.jsonl", "w") as f:
         for r in ok:
             for g in r.gestures:

@@ -1,4 +1,4 @@
-"""`clip`: depth clips (.npz, the interchange format of DESIGN.md), with their ground truth."""
+"""`clip`: depth clips (.npz, the interchange format of docs/architecture.md), with their ground truth."""
 from __future__ import annotations
 
 import zipfile
@@ -43,7 +43,7 @@ class Clip:
             raise UserError(f"{self.path}: not a readable .npz depth clip ({error})") from None
         for key in ("depth", "timestamps", "intrinsics"):
             if key not in arrays:
-                raise UserError(f"{self.path}: depth clip has no `{key}` array (see DESIGN.md, Depth clip)")
+                raise UserError(f"{self.path}: depth clip has no `{key}` array (see docs/architecture.md, Depth clip)")
         self.depth = arrays["depth"]
         if self.depth.ndim != 3 or self.depth.dtype != np.uint16:
             raise UserError(f"{self.path}: `depth` must be uint16 (N, H, W), got {self.depth.dtype} {self.depth.shape}")

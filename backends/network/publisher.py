@@ -1,6 +1,6 @@
 """The sending side of `issv serve`: frames in, ZeroMQ messages out (format: wire.py).
 
-Two sockets, two paths (STYLE.md: gestures are events, not samples):
+Two sockets, two paths (docs/architecture.md: gestures are events, not samples):
 - events (hands and gesture events, heartbeats) on an XPUB socket at ADDR with a high-water mark
   far above any backlog a show can build, so nothing is dropped while a subscriber is connected;
   XPUB tells us when a subscriber joins, and we greet it with a heartbeat at once;

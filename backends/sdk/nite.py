@@ -15,7 +15,7 @@ What this adapter does that the thesis' OINiTEGestureTracker did not:
 - Depth, hands and gestures are copied out of NiTE's frame, then the frame is released at once.
 - start/stop methods call NiTE's start/stop_gesture_detection and stop_all_hand_tracking.
 - Coordinates: NiTE reports OpenNI2 world coordinates in millimetres, x towards the depth
-  image's right, y up, z away from the sensor; that is exactly our camera frame (DESIGN.md), so
+  image's right, y up, z away from the sensor; that is exactly our camera frame (docs/architecture.md), so
   `nite_to_camera` passes them through unchanged, on purpose and in one place (no silent flips).
 """
 from __future__ import annotations

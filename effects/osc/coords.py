@@ -38,7 +38,7 @@ class Projector:
 
     def assume_kinect(self) -> None:
         """No depth image came with the frames (e.g. a remote backend sent none): project as the
-        reference sensor of DESIGN.md, a Kinect v1 (640x480, 57 x 43 degrees)."""
+        reference sensor of docs/architecture.md, a Kinect v1 (640x480, 57 x 43 degrees)."""
         w, h = 640, 480
         self.depth = DepthFrame(np.zeros((h, w), np.uint16), Intrinsics.from_fov(w, h, 57, 43))
 

@@ -1,6 +1,6 @@
 """`osc`: hands and gestures to Max, Pure Data, or anything that speaks OSC over UDP.
 
-The two paths stay apart (STYLE.md): hands go out once per frame as one bundle (rate-limited
+The two paths stay apart (docs/architecture.md): hands go out once per frame as one bundle (rate-limited
 if asked, newest frame wins); every gesture event goes out on its own the moment the show loop
 hands it over, never rate-limited. Nothing here waits on the network (destinations.py).
 """

@@ -1,6 +1,6 @@
 """`issv gestures FILE.csv`: run a backend's gesture recogniser on a hand-trajectory file.
 
-The trajectory format is DESIGN.md's: header `t,hand,x,y,z`; t in seconds, hand an integer id
+The trajectory format is docs/architecture.md's: header `t,hand,x,y,z`; t in seconds, hand an integer id
 or `left` / `right`, x, y, z in millimetres; rows whose hand is `torso` or `head` are body
 reference points. Rows with the same t form one frame. Prints one event line per gesture.
 
@@ -31,7 +31,7 @@ NAMED_HANDS = {"left": (1, Side.LEFT), "right": (2, Side.RIGHT)}  # id and side 
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("file", type=Path, help="hand-trajectory CSV: header t,hand,x,y,z (DESIGN.md)")
+    p.add_argument("file", type=Path, help="hand-trajectory CSV: header t,hand,x,y,z (docs/architecture.md)")
     p.add_argument("--backend", default="openiss", help="backend whose recogniser to run (default: openiss)")
     p.add_argument("--mirrored", action="store_true",
                    help="the coordinates come from a mirrored image: +x is the performer's right")
@@ -57,7 +57,7 @@ def read_trajectories(path: Path) -> Iterator[TrajectoryFrame]:
         missing = [c for c in COLUMNS if c not in (reader.fieldnames or [])]
         if missing:
             raise UserError(f"{path}:1: the header lacks {', '.join(missing)}; "
-                            f"expected {','.join(COLUMNS)} (DESIGN.md, Hand trajectories)")
+                            f"expected {','.join(COLUMNS)} (docs/architecture.md, Hand trajectories)")
         frame: TrajectoryFrame | None = None
         for row in reader:
             line = reader.line_num

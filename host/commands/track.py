@@ -1,7 +1,7 @@
 """`issv track CLIP.npz [...]`: run a backend over depth clips as fast as possible, print its output.
 
 Per frame one `hands` line (Frame.hands_json()) and one line per gesture event (Gesture.to_json()),
-the event lines of DESIGN.md; after a clip's last frame, the gestures its end completed
+the event lines of docs/architecture.md; after a clip's last frame, the gestures its end completed
 (Backend.finish()). With several clips every line also carries `"clip": PATH`, so a directory of
 clips is measured in one process (one backend per clip: each starts fresh).
 """
@@ -20,7 +20,7 @@ HELP = "track hands and gestures in depth clips (.npz) with a backend; prints ev
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("clips", nargs="+", type=Path, help="depth clips (.npz, DESIGN.md)")
+    p.add_argument("clips", nargs="+", type=Path, help="depth clips (.npz, docs/architecture.md)")
     p.add_argument("--backend", default="openiss", help="backend to run (default: openiss)")
 
 

@@ -9,7 +9,7 @@ Channels (one per kind of data, so standard MCAP tools can filter them):
   `mirrored`, `truth` (null, or the source's ground truth: `hands` {side: [x, y, z]}, `gestures`
   [{name, side, start, end}], `body` {joint: [x, y, z]}).
 - `/gestures`, `json` (schema `issv.Gesture`): one message per gesture event, keys as in the event
-  lines of DESIGN.md (`t`, `name`, `native`, `state`, `hand`, `side`, `position`, `confidence`) at
+  lines of docs/architecture.md (`t`, `name`, `native`, `state`, `hand`, `side`, `position`, `confidence`) at
   full precision, plus `seq`, the frame that carried it.
 - `/hands`, `json` (schema `issv.Hands`): one message per sensor frame, written last for that
   frame: `seq`, `t`, `capture_time`, `backend`, `depth_id` (the `frame_id` of its depth image, or

@@ -1,6 +1,6 @@
 """Where camera points land on the stage: homographies for calibration and keystone (numpy only).
 
-Two mappings, applied in this order (DESIGN.md, Outputs and the stage):
+Two mappings, applied in this order (docs/architecture.md, Outputs and the stage):
 - camera -> stage: a 3x3 homography from depth-image pixels (u, v) to stage pixels (x right,
   y down, origin top-left of the composited image). The profile's `output.calibration`; without
   one, the depth image is stretched over the whole output (what `depth-view` shows).

@@ -6,7 +6,7 @@ Segment lengths are fractions of standing height from anthropometric tables (Dri
 shank 0.246 H. Nothing here is tuned to a person: a taller performer is simply scaled.
 
 Body frame: origin on the floor under the pelvis, axes (right, up, forward) from the performer's
-point of view. `Pose` maps it into camera millimetres (DESIGN.md: x towards the image's right,
+point of view. `Pose` maps it into camera millimetres (docs/architecture.md: x towards the image's right,
 y up, z away from the camera); whether the performer's right shows on the image's right is the
 `mirrored` flag.
 """

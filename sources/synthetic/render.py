@@ -3,7 +3,7 @@
 Each shape is ray-cast only inside its own screen bounding box, with numpy over the box, so a
 performer costs a few thousand pixels per limb instead of full-frame passes. Rays leave the
 camera centre through pixel (u, v) with direction (xn, yn, 1), xn = (u - cx) / fx and
-yn = (cy - v) / fy (DESIGN.md's pixel <-> world formulas), so a ray's parameter is its depth z.
+yn = (cy - v) / fy (docs/architecture.md's pixel <-> world formulas), so a ray's parameter is its depth z.
 Ellipsoids are exact. A capsule is drawn as an impostor: each pixel takes the nearest
 point of the capsule's projected axis, and the surface lies sqrt(r^2 - d^2) in front of that
 point's depth, d being the pixel's distance from the axis in millimetres at that depth. Where a

@@ -1,4 +1,4 @@
-"""`issv gestures FILE.csv`: trajectories in, event lines out (DESIGN.md formats)."""
+"""`issv gestures FILE.csv`: trajectories in, event lines out (docs/architecture.md formats)."""
 from __future__ import annotations
 
 import json

@@ -84,7 +84,7 @@ class Performance:
             yield t, hands, (body if with_body else {})
 
     def write_csv(self, path: Path, with_body: bool = True) -> Path:
-        """The performance as a hand-trajectory CSV (DESIGN.md)."""
+        """The performance as a hand-trajectory CSV (docs/architecture.md)."""
         lines = ["t,hand,x,y,z"]
         for t, hands, body in self.frames(with_body):
             for h in hands:

@@ -24,7 +24,7 @@ def frames(steps: list[dict], seed: int = 3, **options) -> list[DepthFrame]:
 
 
 def write_clip(path: Path, depth_frames: list[DepthFrame]) -> Path:
-    """The frames as a depth clip (.npz, DESIGN.md) with hand truth, as a recording would be."""
+    """The frames as a depth clip (.npz, docs/architecture.md) with hand truth, as a recording would be."""
     first = depth_frames[0]
     hands = np.full((len(depth_frames), 2, 3), np.nan)
     for i, f in enumerate(depth_frames):
