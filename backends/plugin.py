@@ -1,5 +1,6 @@
 """Registers the built-in backends, exactly as a third-party plugin would."""
 from backends.engine.backend import OpenISSBackend, SimpleOpenNIBackend
+from backends.network import command as serve
 from backends.network.backend import NetworkBackend
 from backends.replay import ReplayBackend
 from backends.sdk.nite import NiteBackend
@@ -17,3 +18,8 @@ def register_backends(register):
     register(NuitrackBackend)  # openiss-nuitrack: Nuitrack when installed, else the engine in its mode
     register(ReplayBackend)
     register(NetworkBackend)
+
+
+@hookimpl
+def register_commands(register):
+    register(serve)  # issv serve: publish a profile's frames for the network backend

@@ -6,6 +6,7 @@ Rehearse a show without the camera: effects cannot tell a replay from the live b
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
 from pydantic import BaseModel, ConfigDict, Field
 
@@ -26,6 +27,11 @@ class ReplayBackend(Backend):
     name = "replay"
     Options = ReplayOptions
     needs_source = False
+
+    @classmethod
+    def for_recording(cls, path: Path) -> "ReplayBackend":
+        """The recording's own tracks, as they were recorded, as fast as possible."""
+        return cls(None, cls.Options(path=str(path), realtime=False))
 
     def init(self) -> None:
         o: ReplayOptions = self.options

@@ -6,6 +6,7 @@ from effects.gesture_burst import GestureBurst
 from effects.hand_trails import HandTrails
 from effects.isf import Isf
 from effects.osc import OscEffect
+from effects.osc import command as osc_schema
 from effects.silhouette import Silhouette
 from effects.star_trail import StarTrail
 from host import hookimpl
@@ -18,3 +19,8 @@ def register_effects(register):
     for effect in (DepthView, HandTrails, StarTrail, GestureBurst, Silhouette, Isf):
         register(effect)
     register(DigiEVISS)
+
+
+@hookimpl
+def register_commands(register):
+    register(osc_schema)  # issv osc-schema: the OSC address schemes

@@ -1,5 +1,7 @@
-"""issv host: the frozen core. Plugins import what they need from here and nowhere else in host."""
-from host.contracts import Backend, Effect, NoOptions, Plugin, PluginUnavailable, Source, Stage
+"""issv host: the frozen core. Plugins import what they need from here, and from the few public
+host modules listed in PUBLIC_MODULES, nowhere else in host (docs/architecture.md, Plugins and
+the import rule; tests/test_imports.py checks it)."""
+from host.contracts import Backend, Effect, NoOptions, Plugin, PluginUnavailable, Recognizer, Source, Stage
 from host.hookspecs import hookimpl
 from host.model import (
     CANONICAL_GESTURES,
@@ -17,11 +19,23 @@ from host.model import (
     Vec3,
 )
 from host.callbacks import SimpleOpenNIEffect
+from host.loop import profile_source
 
 __version__ = "0.1.0"
 
+#: Host modules a plugin may import besides `host` itself: each has one job a plugin needs.
+PUBLIC_MODULES = (
+    "host.options",  # types for plugin Options (profile-relative paths, colours)
+    "host.errors",  # UserError: one clear line for the user
+    "host.recording",  # the recording format (issv-recording/1): read and write .mcap
+    "host.compression",  # zstd contexts, one per thread
+    "host.devices",  # the OpenNI2 runtime, shared by what opens OpenNI2 devices and files
+    "host.app",  # for plugin commands: a profile's source and backend through the frame loop
+)
+
 __all__ = [
     "Backend", "CANONICAL_GESTURES", "DepthFrame", "Effect", "Frame", "Gesture", "GestureState",
-    "GestureType", "Hand", "HandState", "Intrinsics", "NoOptions", "Plugin", "PluginUnavailable",
-    "SimpleOpenNIEffect", "Side", "Source", "Stage", "Truth", "TruthGesture", "Vec3", "hookimpl", "__version__",
+    "GestureType", "Hand", "HandState", "Intrinsics", "NoOptions", "PUBLIC_MODULES", "Plugin",
+    "PluginUnavailable", "Recognizer", "SimpleOpenNIEffect", "Side", "Source", "Stage", "Truth",
+    "TruthGesture", "Vec3", "hookimpl", "profile_source", "__version__",
 ]

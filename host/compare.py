@@ -7,7 +7,6 @@ same frame loop a show uses (so sFPS, rFPS, effective FPS and latency mean what 
 from __future__ import annotations
 
 import time
-from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -107,18 +106,23 @@ def backend_entry(registry: Registry, name: str) -> Registered:
 
 
 def make(registry: Registry, name: str, recording: Path) -> Backend:
-    """The named backend with its default options, reading the recording's depth unpaced."""
+    """The named backend with its default options on the recording, unpaced: the recording's own
+    frames if the backend plays recordings itself (Backend.for_recording), else the recording's
+    depth from the first source that reads recordings (Source.for_recording)."""
     entry = backend_entry(registry, name)
     reason = entry.availability()
     if reason is not None:
         raise UserError(f"backend {name!r} is not available here: {reason}")
     cls = entry.cls
-    if name == "replay":  # the recording's own tracks, as they were recorded
-        return cls(None, cls.Options(path=str(recording), realtime=False))
+    own = cls.for_recording(recording)
+    if own is not None:
+        return own
     if not cls.needs_source:
         raise UserError(f"backend {name!r} does not read depth, so it cannot be fed the recording")
-    source_entry = registry.get("sources", "recording")
-    source = source_entry.cls(source_entry.cls.Options(path=str(recording)))
+    source = next((s for r in registry.all("sources") if (s := r.cls.for_recording(recording)) is not None), None)
+    if source is None:
+        raise UserError(f"no installed source reads issv recordings, so backend {name!r} cannot be fed "
+                        f"{recording}; installed: {', '.join(registry.names('sources'))}")
     return cls(PacedSource(source, realtime=False), cls.Options())
 
 
@@ -127,8 +131,8 @@ def run_backend(name: str, recording: Path, progress: Callable[[Show], None] | N
     """One backend over the whole recording; a failure is recorded in the Run, never raised."""
     registry = registry or default_registry()
     entry = registry.get("backends", name)
-    declared = getattr(entry.cls, "dictionary", None) if entry is not None else None
-    run = Run(name, tuple(sorted(declared)) if isinstance(declared, Mapping) else None)
+    declared = entry.cls.dictionary if entry is not None else None
+    run = Run(name, tuple(sorted(declared)) if declared is not None else None)
     start = time.perf_counter()
     try:
         backend = make(registry, name, recording)

@@ -3,15 +3,20 @@
 Plugins subclass these and hand the classes to `register(...)` in their hook implementations.
 Every class has a `name` (what profiles say) and an `Options` pydantic model (what profiles may
 set); `availability()` says, without raising, whether it can run here and if not how to fix it.
+Optional capabilities that host commands use are declared here too, with their defaults (a
+backend's `dictionary` and `recognizer`, `for_recording` on sources and backends): commands never
+probe plugins for undeclared attributes. See docs/architecture.md, Contracts.
 """
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from pathlib import Path
+from typing import Any, Callable, ClassVar, Protocol
 
 from pydantic import BaseModel, ConfigDict
 
-from host.model import DepthFrame, Frame, Gesture, Intrinsics, Vec3
+from host.model import DepthFrame, Frame, Gesture, Hand, Intrinsics, Vec3
 from host.render import calibration
 
 
@@ -51,6 +56,12 @@ class Source(Plugin):
     live: ClassVar[bool] = False
     intrinsics: Intrinsics
 
+    @classmethod
+    def for_recording(cls, path: Path, seek: float = 0.0) -> "Source | None":
+        """Capability: a source of an issv recording's depth images from `seek` seconds on, looping
+        off (`issv compare` feeds every backend from it), or None when this source cannot."""
+        return None
+
     def open(self) -> None:
         """Acquire the device or file."""
 
@@ -59,6 +70,17 @@ class Source(Plugin):
 
     def close(self) -> None:
         """Release the device or file."""
+
+
+class Recognizer(Protocol):
+    """A gesture recogniser that runs on any stream of hand positions (the open engine's)."""
+
+    def update(self, t: float, hands: Sequence[Hand], body: Mapping[str, Vec3] | None = None,
+               mirrored: bool = True) -> list[Gesture]:
+        """Gesture events at time `t` (seconds) from these hands and body points (mm)."""
+
+    def finish(self) -> list[Gesture]:
+        """The stream ended: gestures still being confirmed, now complete."""
 
 
 class Backend(Plugin):
@@ -71,12 +93,26 @@ class Backend(Plugin):
     """
 
     needs_source: ClassVar[bool] = True
+    #: Capability: the gestures it can report, canonical name -> its native name or type
+    #: (`issv compare` reports it); None: not declared.
+    dictionary: ClassVar[Mapping[str, Any] | None] = None
+    #: Capability: a backend whose gestures come from a recogniser that runs on any stream of hand
+    #: positions overrides this with `@classmethod recognizer(cls, options=None) -> Recognizer`
+    #: (`options`: its validated Options, None for the defaults); `issv gestures` runs it on
+    #: hand-trajectory files. None: it has none.
+    recognizer: ClassVar[Callable[..., Recognizer] | None] = None
 
     def __init__(self, source: Source | None = None, options: BaseModel | None = None) -> None:
         super().__init__(options)
         self.source = source
         self.detecting_gestures = False
         self.tracking_hands = False
+
+    @classmethod
+    def for_recording(cls, path: Path) -> "Backend | None":
+        """Capability: for a backend that makes its frames from an issv recording itself (not from
+        a source): one that plays `path` as fast as possible (`issv compare`); None otherwise."""
+        return None
 
     def init(self) -> None:
         if self.source is not None:

@@ -49,6 +49,12 @@ class PacedSource:
         return dataclasses.replace(frame, capture_time=time.time())
 
 
+def profile_source(source: Source | PacedSource | None) -> Source | None:
+    """The source the profile named, under the pacer the host may have wrapped it in (a backend
+    that hands the device to a middleware needs the source itself; exported as host.profile_source)."""
+    return source.inner if isinstance(source, PacedSource) else source
+
+
 class Latest:
     """The newest frame and how many frames were published (newest wins)."""
 

@@ -6,6 +6,7 @@ make (ch. 6.2). Ground truth recorded with the depth (e.g. from the synthetic pe
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
 from pydantic import BaseModel, ConfigDict, Field
 
@@ -27,6 +28,10 @@ class RecordingSourceOptions(BaseModel):
 class RecordingSource(Source):
     name = "recording"
     Options = RecordingSourceOptions
+
+    @classmethod
+    def for_recording(cls, path: Path, seek: float = 0.0) -> "RecordingSource":
+        return cls(cls.Options(path=str(path), seek=seek))
 
     def open(self) -> None:
         o: RecordingSourceOptions = self.options

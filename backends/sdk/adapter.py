@@ -14,7 +14,7 @@ from typing import ClassVar, Protocol
 from pydantic import BaseModel
 
 from backends.engine.backend import EngineBackend, announce_once
-from host import Backend, DepthFrame, Frame, Gesture, Hand, Source, Vec3
+from host import Backend, DepthFrame, Frame, Gesture, Hand, Source, Vec3, profile_source
 
 
 class SdkUnavailable(RuntimeError):
@@ -64,11 +64,6 @@ class Implementation:
     why: str
 
 
-def inner_source(source: Source | None) -> Source | None:
-    """The profile's source itself (the host wraps it in a pacer)."""
-    return getattr(source, "inner", source)
-
-
 class SdkBackend(EngineBackend):
     """An EngineBackend mode whose `open_sdk()` may supply the frames instead of the open engine."""
 
@@ -86,7 +81,7 @@ class SdkBackend(EngineBackend):
     @classmethod
     def implementation(cls, options: BaseModel | None = None, source: Source | None = None) -> Implementation:
         """Which implementation `init()` will try, without opening anything."""
-        reason = cls.sdk_missing(options if options is not None else cls.Options(), inner_source(source))
+        reason = cls.sdk_missing(options if options is not None else cls.Options(), profile_source(source))
         return Implementation(False, reason) if reason else Implementation(True, f"{cls.sdk_name} runtime found")
 
     @property
@@ -141,7 +136,7 @@ class SdkBackend(EngineBackend):
             raise SdkUnavailable(f"backend {self.name!r} has no source to open")
         Backend.init(self)
         self._source_opened = True
-        return inner_source(self.source)
+        return profile_source(self.source)
 
     def _sync(self) -> None:
         if self._sdk is not None:

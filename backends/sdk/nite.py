@@ -31,9 +31,9 @@ from pydantic import Field
 from backends.engine.backend import EngineOptions, OpenISSNiteBackend
 from backends.sdk.adapter import SdkBackend, SdkFrame, SdkStopped, SdkUnavailable
 from host import DepthFrame, Gesture, GestureState, Hand, HandState, Intrinsics, Side, Source, Vec3
+from host.devices import INSTALL as OPENNI2_INSTALL
+from host.devices import bindings_dir, find_runtime
 from host.options import ProfilePath
-from sources.oni import INSTALL as OPENNI2_INSTALL
-from sources.oni import bindings_dir, find_runtime
 
 NITE2_LIBRARY = {"win32": "NiTE2.dll", "darwin": "libNiTE2.dylib"}.get(sys.platform, "libNiTE2.so")
 NITE2_HELP = (f"set NITE2_REDIST, or the backend option nite2_redist, to the NiTE2 Redist folder "

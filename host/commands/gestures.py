@@ -4,11 +4,9 @@ The trajectory format is docs/architecture.md's: header `t,hand,x,y,z`; t in sec
 or `left` / `right`, x, y, z in millimetres; rows whose hand is `torso` or `head` are body
 reference points. Rows with the same t form one frame. Prints one event line per gesture.
 
-The backend contract used here: a backend whose gestures come from a recogniser that runs on
-any stream of hand positions exposes `@classmethod recognizer(cls, options=None)` returning an
-object with `update(t, hands, body, mirrored) -> list[Gesture]` and, optionally, `finish() ->
-list[Gesture]` for the end of the stream (the open engine's GestureRecognizer). `options` is the
-backend's validated Options (None: its defaults).
+The backend capability used here is declared in host/contracts.py: `Backend.recognizer`, a class
+method returning a Recognizer (`update(t, hands, body, mirrored)`, `finish()` at the end of the
+stream); backends without one leave it None.
 """
 from __future__ import annotations
 
@@ -105,10 +103,10 @@ def recognizer_for(backend: str):
     """The named backend's recogniser, or a UserError saying which backends have one."""
     registry = default_registry()
     entry = registry.get("backends", backend)
-    able = [r.name for r in registry.all("backends") if callable(getattr(r.cls, "recognizer", None))]
+    able = [r.name for r in registry.all("backends") if r.cls.recognizer is not None]
     if entry is None:
         raise UserError(f"no backend named {backend!r}; backends with a recogniser: {', '.join(able) or 'none'}")
-    if not callable(getattr(entry.cls, "recognizer", None)):
+    if entry.cls.recognizer is None:
         raise UserError(f"backend {backend!r} has no recogniser that runs on hand trajectories; "
                         f"use one of: {', '.join(able) or 'none installed'}")
     return entry.cls.recognizer(None)
@@ -119,6 +117,6 @@ def main(args: argparse.Namespace) -> int:
     for frame in read_trajectories(args.file):
         for gesture in recognizer.update(frame.t, frame.hands, frame.body, args.mirrored):
             print(json.dumps(gesture.to_json()))
-    for gesture in getattr(recognizer, "finish", list)():  # the file ended: swipes being confirmed complete
+    for gesture in recognizer.finish():  # the file ended: swipes being confirmed complete
         print(json.dumps(gesture.to_json()))
     return 0

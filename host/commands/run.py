@@ -3,18 +3,16 @@ from __future__ import annotations
 
 import argparse
 import json
-import signal
 import sys
 from pathlib import Path
 
 from host import profile as profiles
 from host.assemble import make_backend, make_effects, make_stage
-from host.errors import UserError
+from host.app import check_sensor, play
 from host.loop import Limits, Show
-from host.metrics import Metrics
 from host.plugins import default_manager
 from host.reload import Reloader
-from host.status import StatusLine, summary
+from host.status import StatusLine
 
 HELP = "run a show from a profile (windowed, fullscreen, or --headless)"
 
@@ -85,23 +83,3 @@ def main(args: argparse.Namespace) -> int:
         Path(args.metrics_json).write_text(json.dumps(metrics.to_json(), indent=2) + "\n")
     check_sensor(show)
     return 0
-
-
-def play(show: Show, status: StatusLine) -> Metrics:
-    """Run a show: Ctrl-C and SIGTERM stop it cleanly, a live status, the summary at exit.
-    Shared with `issv record`."""
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda *_: show.request_stop())
-    with status:
-        metrics = show.run()
-    summary(metrics)
-    return metrics
-
-
-def check_sensor(show: Show) -> None:
-    """A backend that failed mid-show ends the command with one clear line."""
-    err = show.sensor_error
-    if isinstance(err, UserError):  # already one clear line (a damaged recording, a missing file)
-        raise err
-    if err is not None:
-        raise UserError(f"issv: backend {show.backend.name!r} failed: {type(err).__name__}: {err}")

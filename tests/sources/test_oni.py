@@ -14,14 +14,14 @@ from pathlib import Path
 
 import pytest
 
+from host import devices
 from host.errors import UserError
-from sources import oni
 from sources.oni import OniOptions, OniSource
 
 RECORD_DUMMY = """
 import sys
 from openni import openni2
-from sources.oni import bindings_dir, find_runtime
+from host.devices import bindings_dir, find_runtime
 openni2.initialize(str(bindings_dir(find_runtime())))
 device = openni2.Device(b"Dummy")
 stream = device.create_depth_stream()
@@ -39,7 +39,7 @@ needs_runtime = pytest.mark.skipif(OniSource.availability() is not None, reason=
 
 def test_availability_names_the_missing_runtime_and_how_to_get_it(monkeypatch, tmp_path):
     monkeypatch.delenv("OPENNI2_REDIST", raising=False)
-    monkeypatch.setattr(oni, "LIB_DIRS", [str(tmp_path)])
+    monkeypatch.setattr(devices, "LIB_DIRS", [str(tmp_path)])
     reason = OniSource.availability()
     assert reason is not None and "libOpenNI2.so" in reason and "apt-get install libopenni2-0" in reason
     (tmp_path / "libOpenNI2.so.0").write_bytes(b"")  # a library without its drivers folder
@@ -53,12 +53,12 @@ def test_the_bindings_get_an_unversioned_library_beside_the_runtimes_drivers(tmp
     (runtime / "OpenNI2" / "Drivers").mkdir(parents=True)
     (runtime / "libOpenNI2.so.0").write_bytes(b"\x7fELF")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
-    shim = oni.bindings_dir(runtime / "libOpenNI2.so.0")
+    shim = devices.bindings_dir(runtime / "libOpenNI2.so.0")
     assert (shim / "libOpenNI2.so").resolve() == runtime / "libOpenNI2.so.0"
     assert (shim / "OpenNI2" / "Drivers").resolve() == runtime / "OpenNI2" / "Drivers"
-    assert oni.bindings_dir(runtime / "libOpenNI2.so.0") == shim  # idempotent
+    assert devices.bindings_dir(runtime / "libOpenNI2.so.0") == shim  # idempotent
     (runtime / "libOpenNI2.so").write_bytes(b"\x7fELF")
-    assert oni.bindings_dir(runtime / "libOpenNI2.so") == runtime  # unversioned: used as it is
+    assert devices.bindings_dir(runtime / "libOpenNI2.so") == runtime  # unversioned: used as it is
 
 
 @needs_runtime

@@ -1,7 +1,9 @@
 """`issv serve PROFILE`: run a profile's source and backend and publish its frames for `network`.
 
-The sensor side is the show's own (host.loop.Show with no effects): the same pacing, limits and
-metrics as `issv run`; the backend is wrapped so every frame it makes is published as it is made.
+A command of the network backend's plugin (registered through `register_commands`). The sensor
+side is the host's own frame loop (host.app.SensorShow): the same pacing, limits, metrics and
+rules for a backend that raises as `issv run`; every frame the backend makes is published as it
+is made. Light to import: every `issv` call imports it; the transports load in `main`.
 """
 from __future__ import annotations
 
@@ -10,14 +12,10 @@ import json
 import sys
 from pathlib import Path
 
-from host import profile as profiles
-from host.assemble import make_backend, make_stage
-from host.commands.run import check_sensor, play
+from host import PluginUnavailable
 from host.errors import UserError
-from host.loop import Limits, Show
-from host.status import StatusLine
-from host.tap import SensorTap
 
+NAME = "serve"
 HELP = "publish a profile's backend frames on the network (subscribe with backend = \"network\")"
 DEFAULT_BIND = "tcp://127.0.0.1:5555"
 
@@ -33,7 +31,7 @@ def crop(text: str) -> tuple[int, int, int, int]:
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from backends.network.wire import CODECS, DEFAULT_CODEC
+    from backends.network.wire import CODECS, DEFAULT_CODEC  # numpy and zstandard: loaded anyway by the backend
     p.add_argument("profile", help="a profile TOML file; its source and backend are served")
     p.add_argument("--bind", metavar="ADDR",
                    help=f"where to publish (default {DEFAULT_BIND}: this machine only; tcp://0.0.0.0:5555 "
@@ -63,7 +61,6 @@ def make_publisher(args: argparse.Namespace, backend: str):
     depth = DepthOptions(not args.no_depth, args.codec, max(1, args.downscale), args.crop, args.depth_fps)
     if args.transport == "ros":
         from backends.network.ros import RosPublisher
-        from host.contracts import PluginUnavailable
         try:
             return RosPublisher(args.bind, args.namespace, depth, backend)
         except PluginUnavailable as error:
@@ -73,24 +70,22 @@ def make_publisher(args: argparse.Namespace, backend: str):
 
 
 def main(args: argparse.Namespace) -> int:
-    prof = profiles.load(args.profile)
-    if prof.backend.cls.name == "network":
+    from host.app import SensorShow
+
+    show = SensorShow(args.profile, fast=args.fast)
+    if show.backend.name == "network":
         raise UserError(f"issv serve: {args.profile} uses backend 'network'; serve a profile whose backend "
                         "computes frames (e.g. profiles/demo.toml)")
-    inner = make_backend(prof, realtime=not args.fast)
-    publisher = make_publisher(args, inner.name)
-    # Every frame the backend makes is published on the sensor thread, before newest-wins.
-    backend = SensorTap(inner, publisher.publish, closed=publisher.close, observe_end=publisher.publish_end)
-    stage = make_stage(prof, inner)
-    status = StatusLine(extra=lambda: published(publisher))
-    show = Show(backend, [], stage, limits=Limits(args.frames, args.seconds), status=status)
+    publisher = make_publisher(args, show.backend.name)
     where = publisher.stats()["bind"]
-    print(f"issv serve: publishing backend {inner.name!r} at {where}; Ctrl-C stops", file=sys.stderr, flush=True)
-    play(show, status)
-    stats = publisher.stats()
-    print(f"issv serve: sent {stats['sent']}, depth skipped {stats['depth_skipped']}, "
-          f"compression {stats['compression'] or '-'}x", file=sys.stderr, flush=True)
-    if args.stats_json:
-        Path(args.stats_json).write_text(json.dumps(stats, indent=2) + "\n")
-    check_sensor(show)
+    print(f"issv serve: publishing backend {show.backend.name!r} at {where}; Ctrl-C stops", file=sys.stderr, flush=True)
+    try:
+        show.run(publisher.publish, observe_end=publisher.publish_end, closed=publisher.close,
+                 frames=args.frames, seconds=args.seconds, status=lambda: published(publisher))
+    finally:
+        stats = publisher.stats()
+        print(f"issv serve: sent {stats['sent']}, depth skipped {stats['depth_skipped']}, "
+              f"compression {stats['compression'] or '-'}x", file=sys.stderr, flush=True)
+        if args.stats_json:
+            Path(args.stats_json).write_text(json.dumps(stats, indent=2) + "\n")
     return 0

@@ -1,10 +1,10 @@
-"""`issv osc-schema`: print the OSC address scheme the `osc` effect sends (README.md, OSC)."""
+"""`issv osc-schema`: print the OSC address scheme the `osc` effect sends (README.md, OSC).
+
+A command of the OSC effect's plugin (registered through `register_commands`); light to import.
+"""
 from __future__ import annotations
 
 import argparse
-
-from host.errors import UserError
-from host.plugins import default_registry
 
 NAME = "osc-schema"
 HELP = "print the OSC address scheme (or a preset's: osceleton, synapse, custom templates)"
@@ -17,8 +17,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    entry = default_registry().get("effects", "osc")
-    if entry is None:
-        raise UserError("issv: the `osc` effect is not installed (`issv list` shows what is)")
-    print(entry.cls.describe(args.scheme), end="")
+    from effects.osc.effect import OscEffect
+
+    print(OscEffect.describe(args.scheme), end="")
     return 0

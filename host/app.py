@@ -1,0 +1,77 @@
+"""What a plugin's command needs from the host (a public host module, see host.PUBLIC_MODULES).
+
+`SensorShow` runs a profile's source and backend through the host's frame loop with no effects,
+and lets the command see every frame the backend makes, on the sensor thread, before newest-wins
+can drop one: `issv record` stores them, the network backend's `issv serve` publishes them. The
+pacing, limits, Ctrl-C handling, metrics, lifecycle hooks and the rules for a backend that raises
+are the show's own.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Callable
+
+from host import profile as profiles
+from host.assemble import make_backend, make_stage
+from host.contracts import Backend
+from host.errors import UserError
+from host.loop import Limits, Show
+from host.metrics import Metrics
+from host.model import Frame, Gesture
+from host.plugins import default_manager
+from host.status import StatusLine, summary
+from host.tap import SensorTap
+
+__all__ = ["Metrics", "SensorShow", "UserError"]
+
+
+class SensorShow:
+    """A profile's source and backend, ready to run. `backend` is the profile's backend on its
+    source (paced to real time unless `fast`); `metrics` is the live Metrics once `run` started."""
+
+    def __init__(self, profile: str | Path, fast: bool = False) -> None:
+        self.profile = profiles.load(profile)
+        self.backend: Backend = make_backend(self.profile, realtime=not fast)
+        self.metrics: Metrics | None = None
+
+    @property
+    def source_name(self) -> str:
+        """The profile's source name ("" when its backend reads none)."""
+        return self.profile.source.ref.name if self.profile.source is not None else ""
+
+    def run(self, observe: Callable[[Frame], None], *, observe_end: Callable[[tuple[Gesture, ...]], None] | None = None,
+            closed: Callable[[], None] | None = None, frames: int | None = None, seconds: float | None = None,
+            status: Callable[[], str] | None = None) -> Metrics:
+        """Run until the source ends, a limit is reached or Ctrl-C / SIGTERM. `observe(frame)` sees
+        every frame; `observe_end(gestures)` what the backend's `finish()` completed at the end of the
+        source; `closed()` runs once the backend has stopped; `status()` is a second status line.
+        Prints the summary; a backend that failed raises UserError with one line saying so."""
+        tap = SensorTap(self.backend, observe, closed=closed, observe_end=observe_end)
+        line = StatusLine(extra=status)
+        show = Show(tap, [], make_stage(self.profile, self.backend), pm=default_manager(),
+                    limits=Limits(frames, seconds), status=line)
+        self.metrics = show.metrics
+        metrics = play(show, line)
+        check_sensor(show)
+        return metrics
+
+
+def play(show: Show, status: StatusLine) -> Metrics:
+    """Run a show: Ctrl-C and SIGTERM stop it cleanly, a live status, the summary at exit."""
+    import signal
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: show.request_stop())
+    with status:
+        metrics = show.run()
+    summary(metrics)
+    return metrics
+
+
+def check_sensor(show: Show) -> None:
+    """A backend that failed mid-show ends the command with one clear line."""
+    err = show.sensor_error
+    if isinstance(err, UserError):  # already one clear line (a damaged recording, a missing file)
+        raise err
+    if err is not None:
+        raise UserError(f"issv: backend {show.backend.name!r} failed: {type(err).__name__}: {err}")
