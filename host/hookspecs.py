@@ -2,12 +2,18 @@
 
 Frames never travel through pluggy: one raising hookimpl aborts a whole hook call and the order
 across plugins is not defined, so the host calls the collected objects itself, in profile order.
+The lifecycle hooks are called one implementation at a time (host.plugins.Lifecycle): one that
+raises is named, skipped for the rest of the show, and the show goes on, as with a broken effect.
 """
 from __future__ import annotations
 
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 import pluggy
+
+if TYPE_CHECKING:  # the loop imports the contracts, not the hook specifications
+    from host.contracts import Effect
+    from host.loop import Show
 
 hookspec = pluggy.HookspecMarker("issv")
 hookimpl = pluggy.HookimplMarker("issv")
@@ -39,15 +45,20 @@ def register_commands(register: Callable[[Any], None]) -> None:
 
 
 @hookspec
-def host_started(show: Any) -> None:
-    """The show is running: sources opened, backend initialised, effects set up."""
+def host_started(show: Show) -> None:
+    """The show is running: source opened, backend initialised and started, effects set up; the
+    sensor thread starts right after. `show.backend`, `show.stage` and `show.metrics` are there to
+    read (do not change them). Called on the show's thread, once per show."""
 
 
 @hookspec
-def host_stopping(show: Any) -> None:
-    """The show is about to stop; `show.metrics` holds the final figures."""
+def host_stopping(show: Show) -> None:
+    """The show is about to stop (its source ended, a limit was reached, or Ctrl-C): the sensor
+    thread has ended, the backend is not stopped yet; `show.metrics` holds the final figures and
+    `show.sensor_error` is the backend's failure, if any. Called once per show that started."""
 
 
 @hookspec
-def effect_failed(effect: Any, error: BaseException, phase: str) -> None:
-    """An effect raised in `phase` (setup, on_gesture, on_frame, render) and was disabled."""
+def effect_failed(effect: Effect, error: BaseException, phase: str) -> None:
+    """`effect` raised `error` in `phase` (setup, on_gesture, on_frame, render) and was disabled
+    for the rest of the show; the other effects go on."""

@@ -22,6 +22,7 @@ from host.contracts import Backend, Effect, Source, Stage
 from host.errors import UserError
 from host.metrics import Metrics
 from host.model import DepthFrame, Frame, Gesture
+from host.plugins import Lifecycle
 
 
 class PacedSource:
@@ -123,6 +124,7 @@ class Show:
         self.effects = effects
         self.stage = stage
         self.pm = pm
+        self.notify = Lifecycle(pm) if pm is not None else None  # the lifecycle hooks, guarded
         self.limits = limits
         self.renderer = renderer
         self.status = status
@@ -201,8 +203,8 @@ class Show:
         slot.enabled = False
         print(f"issv: effect {slot.effect.name!r} ({slot.where}) raised {type(error).__name__} in {phase}: "
               f"{error}; it is disabled, the show goes on", file=sys.stderr, flush=True)
-        if self.pm is not None:
-            self.pm.hook.effect_failed(effect=slot.effect, error=error, phase=phase)
+        if self.notify is not None:
+            self.notify("effect_failed", effect=slot.effect, error=error, phase=phase)
 
     def _running(self) -> list[EffectSlot]:
         return [s for s in self.effects if s.enabled]
@@ -249,15 +251,17 @@ class Show:
             self.metrics.source_fps = float(self.backend.source.fps)
         self.backend.start_hand_tracking()
         self.backend.start_gesture_detection()
-        if self.pm is not None:
-            self.pm.hook.host_started(show=self)
+        if self.notify is not None:
+            self.notify("host_started", show=self)
         sensor = threading.Thread(target=self._sensor, name="issv-sensor", daemon=True)
         sensor.start()
-        self._show_loop()
-        self._stop.set()
-        sensor.join(timeout=2.0)
-        if self.pm is not None:
-            self.pm.hook.host_stopping(show=self)
+        try:
+            self._show_loop()
+        finally:
+            self._stop.set()
+            sensor.join(timeout=2.0)
+            if self.notify is not None:
+                self.notify("host_stopping", show=self)
 
     def _close(self, effect: Effect, where: str) -> None:
         try:

@@ -130,11 +130,14 @@ def make_manager() -> pluggy.PluginManager:
         except Exception as error:
             _report(f"plugin {ep.name!r} from distribution {dist!r} failed to load: "
                     f"{type(error).__name__}: {error}")
-    try:
-        pm.check_pending()
-    except pluggy.PluginValidationError as error:
-        _report(f"plugin {error.plugin_name!r} implements a hook issv does not have: {error}")
-    return pm
+    while True:  # tox's check_pending: a misspelled hook is a start-up message, not a silent no-op
+        try:
+            pm.check_pending()
+            return pm
+        except pluggy.PluginValidationError as error:
+            name = pm.get_name(error.plugin)
+            pm.unregister(error.plugin)
+            _report(f"plugin {name!r} implements a hook issv does not have: {error}")
 
 
 def collect(pm: pluggy.PluginManager) -> Registry:
@@ -153,6 +156,32 @@ def collect(pm: pluggy.PluginManager) -> Registry:
         except Exception as error:
             _report(f"plugin {impl.plugin_name!r} failed in register_commands: {type(error).__name__}: {error}")
     return registry
+
+
+LIFECYCLE_HOOKS = ("host_started", "host_stopping", "effect_failed")
+
+
+class Lifecycle:
+    """Calls a lifecycle hook's implementations one at a time, in pluggy's order (last registered
+    first). One that raises is named with its plugin, skipped for the rest of this show, and the
+    others still run: a broken plugin cannot end a show, as a broken effect cannot."""
+
+    def __init__(self, pm: pluggy.PluginManager) -> None:
+        self.pm = pm
+        self.broken: set[tuple[str, str]] = set()  # (plugin, hook)
+
+    def __call__(self, hook: str, **kwargs: Any) -> None:
+        if hook not in LIFECYCLE_HOOKS:
+            raise ValueError(f"{hook!r} is not a lifecycle hook; expected one of {LIFECYCLE_HOOKS}")
+        for impl in reversed(getattr(self.pm.hook, hook).get_hookimpls()):
+            if (impl.plugin_name, hook) in self.broken:
+                continue
+            try:
+                impl.function(**{name: kwargs[name] for name in impl.argnames})
+            except Exception as error:
+                self.broken.add((impl.plugin_name, hook))
+                print(f"issv: plugin {impl.plugin_name!r} raised {type(error).__name__} in {hook}: {error}; "
+                      "that hook of the plugin is skipped from now on, the show goes on", file=sys.stderr, flush=True)
 
 
 @cache
