@@ -119,7 +119,8 @@ class Show:
 
     def __init__(self, backend: Backend, effects: list[EffectSlot], stage: Stage, *,
                  pm: pluggy.PluginManager | None = None, limits: Limits = Limits(),
-                 renderer: Any = None, status: Callable[["Show"], None] | None = None) -> None:
+                 renderer: Any = None, status: Callable[["Show"], None] | None = None,
+                 label: str | None = None, hold: bool = False) -> None:
         self.backend = backend
         self.effects = effects
         self.stage = stage
@@ -136,6 +137,9 @@ class Show:
         self._sensor_done = threading.Event()
         self._wake = threading.Event()  # set by the sensor: new data, deliver it now
         self.sensor_error: BaseException | None = None
+        self.failed_frame = 0  # the number (from 1) of the last frame the backend raised on
+        self.label = label  # what is playing, for messages (a clip's path); None: the profile's source
+        self.hold = hold  # True: after the sensor side ends, keep rendering until stopped (calibration)
         self._failed_in_a_row = 0
 
     def request_stop(self) -> None:
@@ -181,12 +185,14 @@ class Show:
         except Exception as error:
             self._failed_in_a_row += 1
             self.metrics.failed += 1
+            self.failed_frame = self.metrics.frames + self.metrics.failed
             if self._failed_in_a_row >= MAX_FAILED_IN_A_ROW:
                 raise
             if self.metrics.failed == 1:
-                print(f"issv: backend {self.backend.name!r} raised {type(error).__name__} on a frame: {error}; "
-                      "the frame is skipped and the show goes on (failed frames are counted in the summary)",
-                      file=sys.stderr, flush=True)
+                where = f" of {self.label}" if self.label else ""
+                print(f"issv: backend {self.backend.name!r} raised {type(error).__name__} on frame "
+                      f"{self.failed_frame}{where}: {error}; the frame is skipped and the show goes on "
+                      "(failed frames are counted in the summary)", file=sys.stderr, flush=True)
             return False
         self._failed_in_a_row = 0
         return frame
@@ -301,7 +307,9 @@ class Show:
             if done and not len(self.gestures) and self.latest.take()[1] == count:
                 if rendered_count != count:
                     self._render()
-                break
+                    rendered_count = count
+                if not self.hold:
+                    break
             if self.renderer is not None and getattr(self.renderer, "wants_stop", False):
                 break
             self._wake.wait(max(0.0, next_render - time.perf_counter()))

@@ -4,6 +4,10 @@ Per frame one `hands` line (Frame.hands_json()) and one line per gesture event (
 the event lines of docs/architecture.md; after a clip's last frame, the gestures its end completed
 (Backend.finish()). With several clips every line also carries `"clip": PATH`, so a directory of
 clips is measured in one process (one backend per clip: each starts fresh).
+
+Each clip runs through the host's frame loop (host.loop.Show, unpaced, no effects), so a backend
+that raises meets the rules it meets on stage: a frame it fails on is skipped, said once, and the
+clip goes on; failing frame after frame ends the clip with one line naming the clip and the frame.
 """
 from __future__ import annotations
 
@@ -12,9 +16,11 @@ import json
 import sys
 from pathlib import Path
 
-from host.contracts import PluginUnavailable
+from host.contracts import PluginUnavailable, Stage
 from host.errors import UserError
+from host.loop import Limits, PacedSource, Show
 from host.plugins import default_registry
+from host.tap import SensorTap
 
 HELP = "track hands and gestures in depth clips (.npz) with a backend; prints event lines"
 
@@ -36,30 +42,35 @@ def _plugin(kind: str, name: str):
 
 
 def track(clip: Path, backend_cls, source_cls, tag: str | None, out) -> None:
-    """Play one clip through a fresh backend, writing its lines to `out`."""
+    """Play one clip through a fresh backend, writing its lines to `out` (on the sensor thread, in
+    the order the backend made them)."""
     source = source_cls(source_cls.Options(path=str(clip)))
-    backend = backend_cls(source, backend_cls.Options())
+    backend = backend_cls(PacedSource(source, realtime=False), backend_cls.Options())
     extra = {"clip": tag} if tag is not None else {}
 
     def line(doc: dict) -> None:
         out.write(json.dumps({**doc, **extra}) + "\n")
 
-    frames = 0
+    def frame_lines(frame) -> None:
+        line(frame.hands_json())
+        for gesture in frame.gestures:
+            line(gesture.to_json())
+
+    def end_lines(gestures) -> None:  # the clip ended: gestures still being confirmed complete
+        for gesture in gestures:
+            line(gesture.to_json())
+
+    show = Show(SensorTap(backend, frame_lines, observe_end=end_lines), [], Stage((640, 480), 60.0, backend_cls.name),
+                limits=Limits(), label=str(clip))
     try:
-        with backend:
-            while (frame := backend.update()) is not None:
-                frames += 1
-                line(frame.hands_json())
-                for gesture in frame.gestures:
-                    line(gesture.to_json())
-            for gesture in backend.finish():  # the clip ended: gestures still being confirmed complete
-                line(gesture.to_json())
+        show.run()
     except PluginUnavailable as error:
         raise UserError(f"backend {backend_cls.name!r}: {error}") from None
-    except UserError:
-        raise
-    except Exception as error:  # a bug met on this clip: say where, so it can be replayed
-        raise UserError(f"backend {backend_cls.name!r} raised {type(error).__name__} on frame {frames + 1} of "
+    error = show.sensor_error
+    if isinstance(error, UserError):
+        raise error
+    if error is not None:  # a bug met on this clip: say where, so it can be replayed
+        raise UserError(f"backend {backend_cls.name!r} raised {type(error).__name__} on frame {show.failed_frame} of "
                         f"{clip}: {error} (a bug: please report it with that clip)") from error
 
 

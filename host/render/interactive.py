@@ -9,16 +9,19 @@ audience will see.
 """
 from __future__ import annotations
 
-import threading
+import sys
 import time
 from collections import deque
 
 import cv2
 import numpy as np
 
-from host.assemble import make_backend
+from host.app import check_sensor
+from host.assemble import make_backend, make_stage
 from host.errors import UserError
+from host.loop import Show
 from host.model import Frame
+from host.plugins import default_manager
 from host.profile import Profile
 from host.render.calibration import UNIT_SQUARE, check_keystone, homography
 from host.render.context import Window
@@ -106,6 +109,35 @@ class Session:
         return img
 
 
+class CalibrationView:
+    """The calibration window as the show's renderer: every tick it takes the newest frame's hand,
+    draws the picture through the keystone and presents it; closing the window ends the show."""
+
+    def __init__(self, window: Window, session: Session) -> None:
+        self.window = window
+        self.session = session
+        self.shown = [tuple(c) for c in session.corners]
+        self.keystone = Keystone(window.ctx, window.size, self.shown)
+
+    @property
+    def wants_stop(self) -> bool:
+        return self.window.closing
+
+    def render(self, show: Show, frame: Frame | None) -> None:
+        self.session.hand(frame, time.monotonic())
+        corners = [tuple(c) for c in self.session.corners]
+        if corners != self.shown:  # re-solve and upload the warp only when a corner moved
+            self.shown = corners
+            self.keystone.set_corners(corners)
+        self.keystone.texture.write(np.ascontiguousarray(self.session.picture(frame)[::-1]))
+        self.keystone.draw(self.window.fbo)
+        self.window.present()
+
+    def close(self) -> None:
+        self.keystone.release()
+        self.window.close()
+
+
 def calibrate_interactively(prof: Profile) -> dict[str, object] | None:
     """Runs the calibration window; the keys to save, or None when cancelled."""
     out = prof.model.output
@@ -136,34 +168,15 @@ def calibrate_interactively(prof: Profile) -> dict[str, object] | None:
     window.wnd.mouse_release_event_func = lambda x, y, button: setattr(session, "dragging", None)
 
     backend = make_backend(prof)
-    latest: list[Frame | None] = [None]
-    stop = threading.Event()
-
-    def sense() -> None:
-        while not stop.is_set():
-            frame = backend.update()
-            if frame is None:
-                return
-            latest[0] = frame
-
-    with backend:
-        thread = threading.Thread(target=sense, name="issv-calibrate-sensor", daemon=True)
-        thread.start()
-        shown = [tuple(c) for c in session.corners]
-        keystone = Keystone(window.ctx, window.size, shown)
-        try:
-            while not window.closing:
-                session.hand(latest[0], time.monotonic())
-                corners = [tuple(c) for c in session.corners]
-                if corners != shown:  # re-solve and upload the warp only when a corner moved
-                    shown = corners
-                    keystone.set_corners(shown)
-                keystone.texture.write(np.ascontiguousarray(session.picture(latest[0])[::-1]))
-                keystone.draw(window.fbo)
-                window.present()
-        finally:
-            stop.set()
-            thread.join(timeout=2.0)
-            keystone.release()
-            window.close()
+    view = CalibrationView(window, session)
+    # The host's frame loop drives the backend, with the rules it has on stage (a frame it raises
+    # on is skipped; failing frame after frame ends the sensor side); the window stays open.
+    show = Show(backend, [], make_stage(prof, backend), pm=default_manager(), renderer=view, hold=True)
+    show.run()
+    if show.sensor_error is not None:
+        if result is None:
+            check_sensor(show)  # the one line saying which backend failed and why
+        print(f"issv calibrate: backend {backend.name!r} failed during calibration "
+              f"({type(show.sensor_error).__name__}: {show.sensor_error}); what you saved was set before that",
+              file=sys.stderr)
     return result

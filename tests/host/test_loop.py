@@ -107,7 +107,8 @@ def test_a_backend_failing_on_a_few_frames_loses_only_those(capsys):
     assert show.sensor_error is None and show.backend.stopped
     assert metrics.frames == 27 and metrics.failed == 3
     assert [i for i, _ in recorder.events[::2]] == [i for i in range(1, 31) if i not in {5, 6, 20}]
-    assert err.count("backend 'burst' raised ValueError on a frame: odd frame 5") == 1
+    assert err.count("backend 'burst' raised ValueError on frame 5: odd frame 5") == 1
+    assert show.failed_frame == 20
     assert "the show goes on" in err and "odd frame 6" not in err
 
 
@@ -123,14 +124,31 @@ def test_frame_limit_stops_the_show_and_calls_stop():
     assert metrics.frames == 25 and backend.stopped
 
 
+SAYS_STARTED = """
+import sys
+from host import hookimpl
+from host.cli import main
+from host.plugins import default_manager
+
+class SaysStarted:
+    @hookimpl
+    def host_started(self, show):
+        print("started", file=sys.stderr, flush=True)
+
+default_manager().register(SaysStarted(), name="says-started")
+sys.exit(main(sys.argv[1:]))
+"""
+
+
 def test_sigterm_stops_a_running_show_cleanly(tmp_path, clip):
     profile = tmp_path / "p.toml"
     profile.write_text(f'backend = "truth"\n[source]\nname = "clip"\npath = "{clip}"\nloop = true\n'
                        '[[effects]]\nname = "console"\n[output]\nmode = "headless"\n')
     metrics = tmp_path / "m.json"
-    proc = subprocess.Popen([sys.executable, "-m", "host", "run", str(profile), "--metrics-json", str(metrics)],
+    proc = subprocess.Popen([sys.executable, "-c", SAYS_STARTED, "run", str(profile), "--metrics-json", str(metrics)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    time.sleep(2.5)
+    assert proc.stderr.readline() == "started\n"  # the show runs (however long start-up took on this machine)
+    time.sleep(0.5)
     proc.send_signal(signal.SIGTERM)
     out, err = proc.communicate(timeout=20)
     assert proc.returncode == 0, err

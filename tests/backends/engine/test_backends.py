@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import io
 import json
+import re
 from dataclasses import replace
 import subprocess
 import sys
@@ -19,6 +20,7 @@ from backends.engine.trunk import BodyOptions
 from host import DepthFrame, GestureState, GestureType, HandState, Intrinsics, Side, Source
 from host.commands.track import track
 from host.errors import UserError
+from host.loop import MAX_FAILED_IN_A_ROW
 from host.plugins import default_registry
 from tests.backends.engine.performer import WAVE_THEN_REST, frames, swipe_cut_short, write_clip
 from sources.clip import ClipSource
@@ -276,19 +278,39 @@ def test_track_bad_input_is_one_clear_line(tmp_path, clips):
     assert unknown.returncode == 1 and "kinect-magic" in unknown.stderr and "openiss" in unknown.stderr
 
 
-def test_track_names_the_clip_and_the_frame_a_backend_raises_on(clips):
-    class RaisingOnTheThirdFrame(OpenISSBackend):
-        calls = 0
+class RaisingOnTheThirdFrame(OpenISSBackend):
+    """Fails on the third frame (`repeat`: and on every frame after it)."""
 
-        def update(self):
-            frame, self.calls = super().update(), self.calls + 1
-            if self.calls == 3:
-                raise ZeroDivisionError("odd frame")
-            return frame
+    repeat = False
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.calls = 0
+
+    def update(self):
+        frame, self.calls = super().update(), self.calls + 1
+        if self.calls == 3 or (self.repeat and self.calls > 3 and frame is not None):
+            raise ZeroDivisionError("odd frame")
+        return frame
+
+
+def test_track_skips_a_frame_the_backend_raises_on_as_a_show_does(clips, capsys):
+    out = io.StringIO()
+    track(clips[0], RaisingOnTheThirdFrame, ClipSource, None, out)
+    assert out.getvalue().count('"type": "hands"') == len(np.load(clips[0])["depth"]) - 1
+    err = capsys.readouterr().err
+    assert re.search(r"'openiss' raised ZeroDivisionError on frame 3 of .*wave\.npz: odd frame; the frame is skipped",
+                     err), err
+
+
+def test_track_names_the_clip_and_the_frame_of_a_backend_failing_frame_after_frame(clips):
+    class Broken(RaisingOnTheThirdFrame):
+        repeat = True
 
     out = io.StringIO()
-    with pytest.raises(UserError, match=r"'openiss' raised ZeroDivisionError on frame 3 of .*wave\.npz: odd frame"):
-        track(clips[0], RaisingOnTheThirdFrame, ClipSource, None, out)
+    last = 3 + MAX_FAILED_IN_A_ROW - 1
+    with pytest.raises(UserError, match=rf"'openiss' raised ZeroDivisionError on frame {last} of .*wave\.npz: odd frame"):
+        track(clips[0], Broken, ClipSource, None, out)
     assert out.getvalue().count('"type": "hands"') == 2
 
 

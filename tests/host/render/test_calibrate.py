@@ -1,6 +1,11 @@
 """`issv calibrate`: point pairs -> homography saved into the profile (comments kept), keystone
 corners checked, and the interactive session's logic (hold a hand on a target, drag corners)."""
+import shutil
+import subprocess
+import sys
+import textwrap
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,6 +16,7 @@ from host.render.calibration import apply, homography, project
 from host.render.interactive import HOLD_S, TARGETS, Session
 from tests.conftest import write_clip
 
+ROOT = Path(__file__).resolve().parents[3]
 TRUE_H = np.array([[3.1, 0.2, 40.0], [-0.1, 2.9, 25.0], [0.0004, 0.0002, 1.0]])
 
 PROFILE = """# my show: keep this comment
@@ -136,3 +142,56 @@ def test_dragging_a_corner_moves_it_but_never_folds_the_quad():
     session.press(500, 250)  # nowhere near a corner
     session.drag(10, 10)
     assert session.corners[0] == [0.0, 0.0]
+
+
+WINDOWED = textwrap.dedent("""
+    import sys
+    from backends.truth import TruthBackend
+    from host import profile as profiles
+    from host.render import interactive
+    from host.render.context import Window
+
+    class Failing(TruthBackend):
+        '''Raises on frame 5, or (with "always") on every frame from the 5th.'''
+        calls = 0
+        def update(self):
+            frame, Failing.calls = super().update(), Failing.calls + 1
+            if Failing.calls == 5 or (sys.argv[2] == "always" and Failing.calls > 5):
+                raise ZeroDivisionError("odd frame")
+            return frame
+
+    seen, presents = [], [0]
+    hand = interactive.Session.hand
+    interactive.Session.hand = lambda self, frame, now: (seen.append(frame and frame.seq), hand(self, frame, now))
+    present = Window.present
+    def counted(self):
+        present(self)
+        presents[0] += 1
+        if presents[0] == 45:  # about 1.5 s at 30 Hz: the user closes the window (Escape: cancel)
+            self.wnd.close()
+    Window.present = counted
+    original = interactive.make_backend
+    interactive.make_backend = lambda prof: Failing(original(prof).source)
+    result = interactive.calibrate_interactively(profiles.load(sys.argv[1]))
+    print("frames", len({s for s in seen if s}), "result", result)
+""")
+
+
+@pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="needs xvfb-run (apt-get install xvfb) for a real window")
+@pytest.mark.parametrize("failing", ["once", "always"])
+def test_the_calibration_window_drives_the_backend_through_the_frame_loop(profile, failing):
+    """A frame the backend raises on is skipped and the window goes on (the show's rules); a backend
+    failing frame after frame is reported when the window closes, not lost with a dead thread."""
+    text = profile.read_text().replace('mode = "headless"   # no window here', 'mode = "window"\nfps = 30')
+    text = text.replace("size = [1280, 720]", "size = [320, 240]")
+    profile.write_text(text.replace('path = "', 'loop = true\npath = "'))
+    run = subprocess.run(["xvfb-run", "-a", sys.executable, "-c", WINDOWED, str(profile), failing],
+                         capture_output=True, text=True, timeout=120, cwd=ROOT)
+    assert "raised ZeroDivisionError on frame 5" in run.stderr and "the frame is skipped" in run.stderr, run.stderr
+    if failing == "once":
+        assert run.returncode == 0, run.stderr
+        frames = int(run.stdout.split()[1])
+        assert frames >= 20 and "result None" in run.stdout  # frames kept coming after the bad one
+    else:
+        assert run.returncode == 1 and "Traceback" in run.stderr  # calibrate_interactively raised ...
+        assert "UserError: issv: backend 'truth' failed: ZeroDivisionError: odd frame" in run.stderr  # ... one line
