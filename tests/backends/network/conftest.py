@@ -59,35 +59,70 @@ def clip_profile(tmp: Path, clip: Path, loop: bool = True, backend: str = "truth
     return path
 
 
+def stop(proc: subprocess.Popen, grace: float = 10.0) -> None:
+    """SIGINT (to its process group if it leads one: roscore's children go with it), SIGKILL if it
+    lingers; already gone is fine. What is left of its group afterwards is killed."""
+    group = os.getpgid(proc.pid) == proc.pid if proc.poll() is None else False
+    for sig in (signal.SIGINT, signal.SIGKILL):
+        try:
+            os.killpg(proc.pid, sig) if group else proc.send_signal(sig)
+        except ProcessLookupError:
+            break
+        try:
+            proc.wait(timeout=grace)
+            break
+        except subprocess.TimeoutExpired:
+            continue
+    if group:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+
+
+def _read_lines(fd: int, pending: bytearray, wait: float) -> list[str] | None:
+    """Whole lines that arrived on `fd` within `wait` seconds ([] if none yet); None at its end.
+    Raw reads after select, so a partial line or a pipe held open by a grandchild never blocks."""
+    ready, _, _ = select.select([fd], [], [], wait)
+    if not ready:
+        return []
+    chunk = os.read(fd, 65536)
+    if not chunk:
+        return None
+    pending += chunk
+    *whole, rest = pending.split(b"\n")
+    pending[:] = rest
+    return [line.decode(errors="replace") + "\n" for line in whole]
+
+
 def wait_for_line(proc: subprocess.Popen, marker: str, what: str, timeout: float = START_S,
                   stream=None) -> list[str]:
     """The lines `proc` writes to `stream` (default its stderr) up to the first one holding `marker`.
 
-    A helper process that exits first, or says nothing of the kind within `timeout` seconds, fails
-    the test at once with everything it wrote: no test waits without a bound."""
-    stream = stream if stream is not None else proc.stderr
+    A helper process that exits first, or says nothing of the kind within `timeout` seconds, is
+    stopped and fails the test at once with everything it wrote: no test waits without a bound."""
+    fd = (stream if stream is not None else proc.stderr).fileno()
     lines: list[str] = []
+    pending = bytearray()
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
-        ready, _, _ = select.select([stream], [], [], 0.2)
-        if ready:
-            line = stream.readline()
-            if line:
-                lines.append(line)
-                if marker in line:
-                    return lines
-                continue
-        if proc.poll() is not None:  # exited (or closed its stream) without the marker
+        got = _read_lines(fd, pending, 0.2)
+        if got is None:  # its end: it exited (or closed the stream)
+            try:
+                proc.wait(timeout=5)
+            except subprocess.TimeoutExpired:
+                pass
             break
-    if proc.poll() is None:
-        proc.kill()
-        proc.wait()
-        why = f"said nothing with {marker!r} in {timeout:.0f} s"
-    else:
-        why = f"exited with status {proc.returncode}"
-    rest = stream.read() or ""
-    err = proc.stderr.read() if proc.stderr is not None and proc.stderr is not stream else ""
-    pytest.fail(f"{what} did not start ({why}):\n{''.join(lines)}{rest}{err or ''}", pytrace=False)
+        lines += got
+        if any(marker in line for line in got):
+            return lines
+    running = proc.poll() is None
+    stop(proc)
+    why = f"said nothing with {marker!r} in {timeout:.0f} s" if running else f"exited with status {proc.returncode}"
+    end = time.monotonic() + 2.0  # what it wrote while stopping, without waiting on a pipe left open
+    while time.monotonic() < end and (got := _read_lines(fd, pending, 0.2)):
+        lines += got
+    pytest.fail(f"{what} did not start ({why}):\n{''.join(lines)}{pending.decode(errors='replace')}", pytrace=False)
 
 
 class HelperDied(Exception):
@@ -135,13 +170,7 @@ class Serve:
 
     def stop(self) -> str:
         self.stopping = True
-        if self.proc.poll() is None:
-            self.proc.send_signal(signal.SIGINT)
-            try:
-                self.proc.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait()
+        stop(self.proc)
         self._drain.join(timeout=10)
         return "".join(self.lines)
 

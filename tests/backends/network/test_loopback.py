@@ -146,3 +146,16 @@ def test_a_serve_that_fails_after_starting_interrupts_a_waiting_subscriber(serve
         with subscriber(port) as backend:
             backend.update()
     assert time.monotonic() - began < START_S
+
+
+def test_a_helper_that_never_says_it_started_is_stopped_within_the_bound():
+    """Even with half a line written and the pipe held open by a child of its own (as roscore's are)."""
+    proc = subprocess.Popen(["sh", "-c", "sleep 60 & printf 'half a line' >&2; sleep 60"], stderr=subprocess.PIPE,
+                            text=True, start_new_session=True)
+    began = time.monotonic()
+    with pytest.raises(pytest.fail.Exception, match=r"(?s)said nothing with 'ready' in 1 s.*half a line"):
+        wait_for_line(proc, "ready", "the helper", timeout=1)
+    assert time.monotonic() - began < 10 and proc.poll() is not None
+    time.sleep(0.2)
+    table = subprocess.run(["ps", "-eo", "pgid=,stat="], capture_output=True, text=True).stdout.split("\n")
+    assert not [row for row in table if row.split()[:1] == [str(proc.pid)] and not row.split()[1].startswith("Z")]

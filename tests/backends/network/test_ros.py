@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import os
-import signal
 import subprocess
 import sys
 
@@ -14,24 +13,11 @@ import pytest
 
 from backends.network.ros import rospy_missing
 from sources.clip import Clip
-from tests.backends.network.conftest import ROOT, Serve, clip_profile, free_ports, wait_for_line
+from tests.backends.network.conftest import ROOT, Serve, clip_profile, free_ports, stop, wait_for_line
 
 REASON = rospy_missing()
+ROSCORE_START_S = 90  # roslaunch, rosmaster and rosout: slow to start on a loaded machine
 pytestmark = pytest.mark.skipif(REASON is not None, reason=f"ROS: {REASON}")
-
-
-def stop_group(proc: subprocess.Popen) -> None:
-    """SIGINT to the process group (roscore's children with it), SIGKILL if it lingers; gone is fine."""
-    for sig, wait in ((signal.SIGINT, 15), (signal.SIGKILL, None)):
-        try:
-            os.killpg(proc.pid, sig)
-        except ProcessLookupError:
-            break
-        try:
-            proc.wait(timeout=wait)
-            break
-        except subprocess.TimeoutExpired:
-            continue
 
 
 @pytest.fixture
@@ -42,10 +28,10 @@ def roscore():
     core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True, start_new_session=True)
     try:
-        wait_for_line(core, "started core service", "roscore", stream=core.stdout)
+        wait_for_line(core, "started core service", "roscore", ROSCORE_START_S, stream=core.stdout)
         yield env
     finally:
-        stop_group(core)
+        stop(core, grace=15)
 
 
 def test_serve_over_ros_to_the_network_backend(roscore, tmp_path, performer_clip):
