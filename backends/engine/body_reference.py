@@ -19,13 +19,17 @@ from backends.engine.rules import GestureRules
 
 @dataclass(frozen=True)
 class BodyFrame:
-    """The body at one instant: torso position (mm), the heights of the shoulder line and head,
-    and the torso's vertical speed (mm/s)."""
+    """The body at one instant: torso and head centre (mm), the height of the shoulder line, and
+    the torso's vertical speed (mm/s)."""
 
     torso: np.ndarray
     shoulder_y: float
-    head_y: float
+    head: np.ndarray
     vy: float = 0.0
+
+    @property
+    def head_y(self) -> float:
+        return float(self.head[1])
 
 
 def _shared(velocities: list[np.ndarray]) -> np.ndarray:
@@ -59,15 +63,22 @@ class BodyReference:
         if torso is None and head is None:  # estimated: its vertical speed is unknown, say steady
             estimate = self._estimate()
             torso = estimate if estimate is not None else np.zeros(3)
-            head_y = float(torso[1]) + r.head_above_torso_mm
-            return BodyFrame(torso, head_y - r.shoulder_below_head_mm, head_y, 0.0)
+            return self._frame(torso, torso + self._up, 0.0)
         if torso is not None:
             torso = np.asarray(torso, dtype=float)
-            head_y = float(head[1]) if head is not None else float(torso[1]) + r.head_above_torso_mm
+            head = np.asarray(head, dtype=float) if head is not None else torso + self._up
         else:
-            head_y = float(head[1])
-            torso = np.asarray(head, dtype=float) - np.array([0.0, r.head_above_torso_mm, 0.0])
-        return BodyFrame(torso, head_y - r.shoulder_below_head_mm, head_y, self._vertical_speed(t, float(torso[1])))
+            head = np.asarray(head, dtype=float)
+            torso = head - self._up
+        return self._frame(torso, head, self._vertical_speed(t, float(torso[1])))
+
+    @property
+    def _up(self) -> np.ndarray:
+        """From the torso to the head centre of a standing adult (without a skeleton to tell)."""
+        return np.array([0.0, self.rules.head_above_torso_mm, 0.0])
+
+    def _frame(self, torso: np.ndarray, head: np.ndarray, vy: float) -> BodyFrame:
+        return BodyFrame(torso, float(head[1]) - self.rules.shoulder_below_head_mm, head, vy)
 
     def _vertical_speed(self, t: float, y: float) -> float:
         self._heights.append((t, y))

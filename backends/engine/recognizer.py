@@ -15,7 +15,10 @@ matched against the rules (rules.py):
   the hand near or above the shoulders.
 - CLICK (PUSH): a fast stroke towards the camera with the hand up, after which the hand halts
   (stops or comes back).
-- HAND_RAISE: the hand held nearly still above the head.
+- HAND_RAISE: the hand up above the head and clear of it (hands put on the head are no raise),
+  then stopping: at the top of a lift, or held there.
+Distance thresholds are stated for an adult and scale with the performer's size (the torso to
+head distance), so a child's smaller swipe is still a swipe.
 Swipes and waves are one hand's: another hand making the mirror motion at the same time (a
 clap) cancels them.
 
@@ -78,14 +81,14 @@ class _HandTrack:
     announced: set = field(default_factory=set)  # IN_PROGRESS already sent, keyed by attempt
     wave_done_at: float = float("-inf")  # start time of the chain whose wave was completed
     raised_since: float | None = None  # when the hand last went up above the head
-    hold: Sample | None = None  # where the hand has been held still since
     raised_done: bool = False
+    slow_since: float | None = None  # since when the raised hand has been moving slowly
 
     def __post_init__(self) -> None:
         r = self.rules
         self.strokes = {a: AxisStrokes(a, r.stroke_hysteresis_mm, r.stroke_stop_s) for a in (X, Y, Z)}
 
-    def sample(self, t: float, p: np.ndarray, shoulder: float, head: float, world: Vec3, body_vy: float) -> Sample:
+    def sample(self, t: float, p: np.ndarray, shoulder: float, face: np.ndarray, world: Vec3, body_vy: float) -> Sample:
         """The new sample with its velocity over the speed window, kept in a short history."""
         window = self.rules.speed_window_s
         last = self.samples[-1] if self.samples else None
@@ -100,7 +103,7 @@ class _HandTrack:
             if t - q.t >= window or q.seen_since != since:
                 break  # the first sample after a gap: the average speed across it, a lower bound
         v = (p - ref.p) / (t - ref.t) if ref is not None and t > ref.t else np.zeros(3)
-        s = Sample(t, p, v, shoulder, head, world, body_vy, since)
+        s = Sample(t, p, v, shoulder, float(face[1]), world, body_vy, since, face)
         self.samples.append(s)
         while self.samples and t - self.samples[0].t > _HISTORY_S:
             self.samples.popleft()
@@ -118,6 +121,11 @@ class GestureRecognizer:
         if unknown:
             raise ValueError(f"unknown gesture names {sorted(unknown)}; expected some of {', '.join(CANONICAL_GESTURES)}")
         self.reset()
+
+    def size(self, s: Sample) -> float:
+        """The performer's size relative to the adult the distance thresholds are stated for."""
+        lo, hi = self.rules.body_size_range
+        return float(np.clip(s.head / self.rules.head_above_torso_mm, lo, hi))
 
     def reset(self) -> None:
         """Forget every hand and the body (a new performance)."""
@@ -151,7 +159,7 @@ class GestureRecognizer:
                 track = self._tracks[h.id] = _HandTrack(self.rules, h)
             track.hand, track.last_seen = h, t
             s = track.sample(t, np.asarray(h.position, float) - frame.torso,
-                             frame.shoulder_y - frame.torso[1], frame.head_y - frame.torso[1], h.position, frame.vy)
+                             frame.shoulder_y - frame.torso[1], frame.head - frame.torso, h.position, frame.vy)
             _Hand(self, track, h, t, mirrored, events, self._tracks).step(s)
         seen = {h.id for h in live}
         for hid, track in self._tracks.items():
@@ -246,6 +254,10 @@ class _Hand:
         after = next((q for q in self.tr.samples if q.t > stroke.end.t), None)
         return after is None or after.seen_since == since
 
+    def at_head(self, s: Sample) -> bool:
+        """Is the hand at the head (on it, at the eyes, behind it), not clear of it?"""
+        return float(np.linalg.norm(s.p - s.face)) < self.r.raise_clear_of_head_mm * self.rec.size(s)
+
     # --- swipes and waves ---------------------------------------------------------------------
     def swipe_name(self, stroke: Stroke) -> str:
         if stroke.axis == Y:
@@ -260,9 +272,10 @@ class _Hand:
         r = self.r
         core = self.core(stroke)
         if stroke.axis == Y:
-            # judged whole: a vertical stroke that starts or ends at rest is the arm lifting or dropping
+            # judged whole: a vertical stroke that starts or ends at rest is the arm lifting or dropping,
+            # one that starts or ends at the head is a hand going there (goggles, hands on the head)
             lowest = stroke.lowest
-            if not self.seen_throughout(stroke):
+            if not self.seen_throughout(stroke) or self.at_head(stroke.start) or self.at_head(stroke.end):
                 return False
         else:
             lowest = core.lowest
@@ -402,23 +415,29 @@ class _Hand:
 
     # --- hand raise ---------------------------------------------------------------------------
     def hand_raise(self, s: Sample) -> None:
+        """Up above the head and clear of it, then stopping: at the top of a lift or held there."""
         r, tr = self.r, self.tr
-        above = float(s.p[Y]) - (s.head + r.raise_min_above_head_mm)
-        if above < 0:
-            tr.hold = None
+        k = self.rec.size(s)
+        above = float(s.p[Y]) - (s.head + r.raise_min_above_head_mm * k)
+        clear = float(np.linalg.norm(s.p - s.face)) - r.raise_clear_of_head_mm * k
+        if above < 0 or self.at_head(s):
+            tr.slow_since = None
             if above < -r.stroke_hysteresis_mm:  # lowered for real: the next raise counts again
                 tr.raised_since, tr.raised_done = None, False
             return
         if tr.raised_since is None:
             tr.raised_since = s.t
-        if tr.hold is None or float(np.linalg.norm(s.p - tr.hold.p)) > r.raise_hold_radius_mm:
-            tr.hold = s  # moving: the hold starts again from here
-        held = s.t - tr.hold.t
         if tr.raised_done:
             return
-        confidence = _confidence(_margin(above + r.raise_min_above_head_mm, r.raise_min_above_head_mm),
-                                 min(1.0, held / (2 * r.raise_hold_s)))
-        if held >= r.raise_hold_s:
+        confidence = _confidence(_margin(above + r.raise_min_above_head_mm * k, r.raise_min_above_head_mm * k),
+                                 _margin(clear + r.raise_clear_of_head_mm * k, r.raise_clear_of_head_mm * k))
+        if float(np.linalg.norm(s.v)) > r.raise_max_speed_mm_s:
+            tr.slow_since = None
+        elif tr.slow_since is None:
+            tr.slow_since = s.t
+        stopped = tr.slow_since is not None and s.t - tr.slow_since >= r.raise_still_s
+        steady = abs(s.body_vy) <= r.steady_body_max_vertical_speed_mm_s
+        if s.t - tr.raised_since >= r.raise_min_up_s and stopped and steady:
             tr.raised_done = self.emit("hand_raise", GestureState.COMPLETE, confidence, s)
-        elif held >= r.raise_hold_s / 2:
+        else:
             self.announce("hand_raise", tr.raised_since, confidence, s)

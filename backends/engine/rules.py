@@ -95,11 +95,17 @@ class GestureRules(BaseModel):
 
     # --- hand raise ---------------------------------------------------------------------------
     raise_min_above_head_mm: float = Field(
-        50.0, description="the hand is held at least this far above the head's centre")
-    raise_hold_s: float = Field(0.5, gt=0, description="and held there, nearly still, for this long")
-    raise_hold_radius_mm: float = Field(
-        80.0, gt=0, description="'held': the hand stays within this distance of where the hold began "
-        "(tracker jitter and sway are smaller; the swings of a wave are larger)")
+        50.0, description="the hand is at least this far above the head's centre")
+    raise_clear_of_head_mm: float = Field(
+        300.0, gt=0, description="and at least this far from the head's centre: hands put on the head "
+        "(protest, despair) rest within 150-250 mm of it, a raised arm's hand 400-700 mm")
+    raise_min_up_s: float = Field(
+        0.1, gt=0, description="up and clear for at least this long (three frames at 30 Hz)")
+    raise_max_speed_mm_s: float = Field(
+        600.0, gt=0, description="and then nearly stopping: the top of a lift, or a hand held up "
+        "(a hand still rising, or sweeping across in a wave, moves faster)")
+    raise_still_s: float = Field(
+        0.06, ge=0, description="for this long: a waving hand slows only for an instant where it turns")
 
     # --- per hand -----------------------------------------------------------------------------
     refractory_s: float = Field(
@@ -120,7 +126,13 @@ class GestureRules(BaseModel):
         "a skeleton's torso jitters by several mm per frame, a squat lasts a second)")
     # without a skeleton, or with only part of one
     head_above_torso_mm: float = Field(
-        520.0, gt=0, description="head centre above the torso (spine) joint, used when only the torso is known")
+        520.0, gt=0, description="head centre above the torso (spine) joint of an adult: used when only "
+        "the torso is known, and the body size for which every distance threshold here is stated. "
+        "They scale with the performer's own torso-to-head distance (a child of five: about 400 mm), "
+        "within `body_size_range`")
+    body_size_range: tuple[float, float] = Field(
+        (0.6, 1.3), description="the smallest and largest performer, relative to `head_above_torso_mm`, "
+        "that distance thresholds follow (a skeleton glitch must not shrink them to nothing)")
     shoulder_below_head_mm: float = Field(250.0, gt=0, description="shoulder line below the head's centre")
     rest_below_torso_mm: float = Field(
         320.0, gt=0, description="without a skeleton: a hand hanging at rest is this far below the torso, "

@@ -16,8 +16,8 @@ X, Y, Z = 0, 1, 2
 @dataclass(frozen=True)
 class Sample:
     """One frame of one hand, relative to the body: `p` = hand - torso (mm), `v` its velocity (mm/s);
-    `shoulder` and `head` are the heights of the shoulder line and head centre above the torso;
-    `body_vy` is the torso's vertical speed (mm/s)."""
+    `shoulder` and `head` are the heights of the shoulder line and head centre above the torso,
+    `face` the head centre relative to the torso; `body_vy` is the torso's vertical speed (mm/s)."""
 
     t: float
     p: np.ndarray
@@ -27,6 +27,7 @@ class Sample:
     world: tuple[float, float, float]
     body_vy: float = 0.0
     seen_since: float = 0.0  # since when the hand has been seen without a gap
+    face: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

@@ -141,9 +141,11 @@ def push(pushes: int = 1, travel: float = 400.0, pause: float = 0.4, seconds: fl
     return Performance(hands, end + 0.5)
 
 
-def hand_raise(above_head: float = 150.0, hold: float = 1.0, move: float = 0.8) -> Performance:
-    """The right hand lifted in `move` s to `above_head` mm above the head's centre, held `hold` s."""
-    right = (rest(Side.RIGHT).hold(0.3).then(move, (200.0, HEAD_ABOVE_TORSO + above_head, -150.0))
+def hand_raise(above_head: float = 150.0, hold: float = 1.0, move: float = 0.8, aside: float = 200.0,
+               forward: float = 150.0) -> Performance:
+    """The right hand lifted in `move` s to `above_head` mm above the head's centre, `aside` mm to its
+    side and `forward` mm in front of it, held `hold` s."""
+    right = (rest(Side.RIGHT).hold(0.3).then(move, (aside, HEAD_ABOVE_TORSO + above_head, -forward))
              .hold(hold).then(move, REST[Side.RIGHT]))
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 

@@ -83,10 +83,38 @@ def test_a_push_of_both_hands_is_a_click(with_body):
     assert names and set(names) == {"click"}
 
 
-def test_a_hand_held_above_the_head_is_a_hand_raise_once():
-    assert completed(perform(c.hand_raise(above_head=150, hold=1.0))) == ["hand_raise"]
-    assert completed(perform(c.hand_raise(above_head=150, hold=0.0, move=0.4))) == []  # up and down: not held
+def test_a_hand_raised_above_the_head_is_a_hand_raise_once():
+    assert completed(perform(c.hand_raise(above_head=300, hold=1.0))) == ["hand_raise"]
+    # lifted and lowered at once (MSRC-12's "lift outstretched arms"): the top of the lift counts
+    assert completed(perform(c.hand_raise(above_head=300, hold=0.0, move=0.6))) == ["hand_raise"]
     assert completed(perform(c.hand_raise(above_head=-200, hold=1.0))) == []  # at the shoulder
+
+
+def test_a_hand_put_on_the_head_is_no_hand_raise_nor_swipe():
+    """Hands on the head (MSRC-12's "had enough") rest above its centre but touch it."""
+    on_head = c.hand_raise(above_head=120, hold=1.5, aside=60, forward=0)
+    assert completed(perform(on_head)) == []
+    higher = c.hand_raise(above_head=350, hold=1.5, aside=60, forward=0)  # the same arm, up clear of it
+    assert completed(perform(higher)) == ["hand_raise"]
+
+
+def test_distance_thresholds_follow_the_performers_size():
+    """A child of five (torso to head 400 mm, not an adult's 520) raising a hand 250 mm above the
+    head is clear of the head for the child, not for an adult's thresholds left unscaled."""
+    child = c.hand_raise(above_head=250, hold=1.0, aside=100, forward=60)
+
+    def run(rules: GestureRules) -> list[str]:
+        recognizer, events = GestureRecognizer(rules), []
+        for t, hands, body in child.frames():
+            torso, head = body["torso"], body["head"]
+            body = {**body, "head": (head[0], torso[1] + 400.0, head[2])}  # the child's head, lower
+            hands = [Hand(h.id, h.state, (h.position[0], h.position[1] - 120.0, h.position[2]), h.side)
+                     for h in hands]
+            events += recognizer.update(t, hands, body, True)
+        return completed(events)
+
+    assert run(GestureRules()) == ["hand_raise"]
+    assert run(GestureRules(body_size_range=(1.0, 1.0))) == []
 
 
 def test_refractory_period_per_hand_comes_from_the_rules():
