@@ -1,7 +1,7 @@
 """Gestures of real people the recogniser was not tuned on, scored per person as the project is judged.
 
 Three datasets of real skeletons (the folder named by `--data`, default ISSV_DATA, see
-bench/data.py), each scored exactly as `shared/tools/score.py` scores `issv gestures --mirrored`:
+bench/common.py), each scored exactly as `shared/tools/score.py` scores `issv gestures --mirrored`:
 - UTD-MHAD trajectories (four people, one performance per clip): recall of swipe_left,
   swipe_right, wave and push (click); false fires on clearly different actions; confusion.
 - MSRC-12 streams (ten people, each gesture about ten times per recording with its action point):
@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import glob
 import json
-import os
 import re
 from collections import defaultdict
 from concurrent.futures import ProcessPoolExecutor
@@ -29,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.common import default_data  # noqa: F401  (the data folder; scripts import it from here)
 from host import GestureState
 from host.commands.gestures import TrajectoryFrame, read_trajectories
 
@@ -198,11 +198,3 @@ def figures(recordings: list[Recording], outcomes: list[Outcome]) -> dict:
                                       "in_progress_p50": float(np.median(e)) if e else None} if d else None)
         out[ds] = fig
     return out
-
-
-def default_data() -> Path | None:
-    env = os.environ.get("ISSV_DATA")
-    if env:
-        return Path(env)
-    beside = Path(__file__).resolve().parents[2] / "shared" / "data"
-    return beside if beside.is_dir() else None
