@@ -1,6 +1,7 @@
 """Registers the built-in sources, exactly as a third-party plugin would."""
 from host import hookimpl
 from sources.clip import ClipSource
+from sources.depth_images import DepthImagesSource
 from sources.fakenect import FakenectSource
 from sources.oni import OniSource
 from sources.recording import RecordingSource
@@ -10,6 +11,7 @@ from sources.synthetic import SyntheticSource
 @hookimpl
 def register_sources(register):
     register(ClipSource)
+    register(DepthImagesSource)
     register(FakenectSource)
     register(OniSource)
     register(RecordingSource)
