@@ -1,0 +1,161 @@
+""".bag recordings written by librealsense itself, played back through the `realsense` source.
+
+No RealSense camera is plugged in here, so the camera is librealsense's own `software_device`
+(a device whose frames the test supplies) recorded by librealsense's own `recorder`: the file is
+the library's real format, with the device's depth scale and intrinsics in it, read back by the
+same pipeline code that opens a live camera. What needs a camera is listed in sources/realsense.py.
+"""
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from host.cli import main as issv
+from host.errors import UserError
+from sources.realsense import RealSenseOptions, RealSenseSource
+from tests.recordings import write_profile
+
+rs = pytest.importorskip("pyrealsense2", reason="the realsense extra is not installed: pip install 'issv[realsense]'")
+
+W, H, FPS = 640, 480, 30
+FX, FY, PPX, PPY = 615.25, 614.75, 318.5, 243.25
+
+
+def frame_pixels(i: int) -> np.ndarray:
+    """A frame that says which frame it is, with a hole (0 = no reading) in the middle."""
+    px = ((np.arange(W * H, dtype=np.uint32).reshape(H, W) * (i + 1) + 500 * i) % 60000 + 300).astype(np.uint16)
+    px[200:240, 300:340] = 0
+    return px
+
+
+def write_bag(path: Path, frames: int, depth_units_m: float = 0.001, pace: bool = False) -> list[np.ndarray]:
+    """Record `frames` depth frames from a librealsense software device into `path`."""
+    device = rs.software_device()
+    device.register_info(rs.camera_info.name, "issv software depth camera")
+    device.register_info(rs.camera_info.serial_number, "000000000001")
+    sensor = device.add_sensor("Stereo Module")
+    sensor.add_read_only_option(rs.option.depth_units, depth_units_m)
+    k = rs.intrinsics()
+    k.width, k.height, k.fx, k.fy, k.ppx, k.ppy = W, H, FX, FY, PPX, PPY
+    k.model, k.coeffs = rs.distortion.brown_conrady, [0.0] * 5
+    stream = rs.video_stream()
+    stream.type, stream.index, stream.uid, stream.width, stream.height = rs.stream.depth, 0, 0, W, H
+    stream.fps, stream.bpp, stream.fmt, stream.intrinsics = FPS, 2, rs.format.z16, k
+    profile = sensor.add_video_stream(stream).as_video_stream_profile()
+    recorder = rs.recorder(str(path), device)
+    recording = recorder.query_sensors()[0]
+    queue = rs.frame_queue(frames + 1)
+    recording.open(recording.get_stream_profiles()[0])
+    recording.start(queue)
+    written = []
+    for i in range(frames):
+        written.append(frame_pixels(i))
+        f = rs.software_video_frame()
+        f.pixels, f.stride, f.bpp, f.frame_number = written[-1], W * 2, 2, i
+        f.timestamp, f.domain = 5000.0 + i * 1000.0 / FPS, rs.timestamp_domain.hardware_clock
+        f.profile, f.depth_units = profile, depth_units_m
+        sensor.on_video_frame(f)
+        assert queue.wait_for_frame(1000)
+        if pace:
+            time.sleep(1.0 / FPS)
+    recording.stop()
+    recording.close()
+    del recording, recorder  # the recorder writes the file's index when it is released
+    return written
+
+
+@pytest.fixture(scope="module")
+def bag(tmp_path_factory) -> tuple[Path, list[np.ndarray]]:
+    path = tmp_path_factory.mktemp("rs") / "take.bag"
+    return path, write_bag(path, 12, pace=True)
+
+
+def play(**options) -> tuple[RealSenseSource, list]:
+    source = RealSenseSource(RealSenseOptions(**options))
+    source.open()
+    try:
+        return source, list(iter(source.read, None))
+    finally:
+        source.close()
+
+
+def test_a_bag_plays_back_bit_exact_with_the_devices_intrinsics(bag):
+    path, written = bag
+    assert path.read_bytes()[:13] == b"#ROSBAG V2.0\n"  # a ROS 1 bag, as the RealSense Viewer writes
+    source, frames = play(path=str(path), realtime=False)
+    assert len(frames) == len(written)
+    assert all(np.array_equal(f.data, w) for f, w in zip(frames, written))
+    assert source.intrinsics.as_list() == pytest.approx([FX, FY, PPX, PPY])
+    assert source.fps == FPS and source.depth_unit_mm == 1.0
+    assert [f.timestamp for f in frames] == pytest.approx([i / FPS for i in range(12)], abs=1e-6)
+    assert "dropped 0" in source.health() and not frames[0].mirrored
+
+
+def test_a_scale_other_than_a_millimetre_is_converted(tmp_path):
+    written = write_bag(tmp_path / "sr305.bag", 3, depth_units_m=0.000125)  # an SR305's depth unit
+    source, frames = play(path=str(tmp_path / "sr305.bag"), realtime=False)
+    assert source.depth_unit_mm == 0.125
+    assert all(np.array_equal(f.data, np.round(w * 0.125).astype(np.uint16)) for f, w in zip(frames, written))
+
+
+def test_realtime_playback_keeps_the_recorded_pace(bag):
+    path, _ = bag
+    start = time.monotonic()
+    play(path=str(path))
+    realtime = time.monotonic() - start
+    assert realtime >= 11 / FPS * 0.8  # 12 frames recorded 1/30 s apart
+
+
+def test_seek_starts_later_and_loop_runs_on_forward_in_time(bag):
+    path, written = bag
+    _, frames = play(path=str(path), realtime=False, seek=0.2)
+    assert 0 < len(frames) < len(written) and np.array_equal(frames[-1].data, written[-1])
+    assert any(np.array_equal(frames[0].data, w) for w in written[4:8])
+    source = RealSenseSource(RealSenseOptions(path=str(path), realtime=False, loop=True))
+    source.open()
+    try:
+        looped = [source.read() for _ in range(30)]
+    finally:
+        source.close()
+    times = [f.timestamp for f in looped]
+    assert all(b > a for a, b in zip(times, times[1:])) and times[-1] > 11 / FPS
+    assert any(np.array_equal(f.data, written[0]) for f in looped[12:])  # the second pass
+
+
+def test_filters_run_on_the_frames_and_decimation_scales_the_intrinsics(bag):
+    path, written = bag
+    source, frames = play(path=str(path), realtime=False, decimation=2, hole_filling=True, spatial=True,
+                          temporal=True)
+    assert frames[0].data.shape == (H // 2, W // 2) and (source.width, source.height) == (W // 2, H // 2)
+    assert source.intrinsics.fx == pytest.approx(FX / 2, rel=0.01) and source.intrinsics.cx == pytest.approx(PPX / 2, abs=1)
+    assert (written[0][200:240, 300:340] == 0).all() and (frames[0].data[100:120, 150:170] > 0).all()  # filled
+
+
+def test_issv_run_plays_a_bag(bag, tmp_path):
+    path, _ = bag
+    prof = write_profile(tmp_path / "p.toml", {"name": "realsense", "path": str(path), "realtime": False,
+                                               "loop": True})
+    metrics = tmp_path / "m.json"
+    assert issv(["run", str(prof), "--headless", "--no-reload", "--frames", "30", "--metrics-json", str(metrics)]) == 0
+    assert json.loads(metrics.read_text())["frames"] == 30
+
+
+def test_a_missing_or_foreign_file_says_so(tmp_path):
+    with pytest.raises(UserError, match="no such RealSense recording"):
+        play(path=str(tmp_path / "missing.bag"))
+    (tmp_path / "bad.bag").write_bytes(b"not a bag")
+    with pytest.raises(UserError, match="librealsense cannot play it"):
+        play(path=str(tmp_path / "bad.bag"))
+
+
+def test_without_a_camera_the_source_says_what_to_check():
+    """No RealSense is plugged in here: starting the live camera must fail with a reason, not hang."""
+    if rs.context().query_devices().size():
+        pytest.skip("a RealSense camera is plugged in")
+    with pytest.raises(UserError, match="cannot start any RealSense|no permission"):
+        play()
+    assert RealSenseSource.devices() == []
