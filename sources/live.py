@@ -60,6 +60,7 @@ class LiveCamera(Source):
         self._retry_at = 0.0
         self._count = 0
         self._first_time: float | None = None
+        self._base = 0.0  # source time where the device's clock starts (it may restart on a replug)
         self.connect()
 
     def close(self) -> None:
@@ -86,20 +87,20 @@ class LiveCamera(Source):
         except EndOfStream:
             return None
         if got is None:
-            self._lose(f"no depth frame for {self.STALL_S:.0f} s (unplugged?)")
+            self._lose(f"no depth frame for {self.STALL_S:g} s (unplugged?)")
             return self._hold()
         now = time.monotonic()
         self._arrivals.append(now)
         self.dropped += got.skipped
         self._first_time = got.device_time if self._first_time is None else self._first_time
         self._last = DepthFrame(got.depth, self.intrinsics, frame_id=self._count,
-                                timestamp=got.device_time - self._first_time, mirrored=self.mirrored)
+                                timestamp=self._base + got.device_time - self._first_time, mirrored=self.mirrored)
         self._count += 1
         return self._last
 
     def _lose(self, why: str) -> None:
         print(f"issv: {self.name}: {why}; the show goes on with the last frame, reconnecting every "
-              f"{self.RETRY_S:.0f} s", file=sys.stderr)
+              f"{self.RETRY_S:g} s", file=sys.stderr)
         self._lost_at = time.monotonic()
         self._retry_at = self._lost_at + self.RETRY_S
         self._arrivals.clear()
@@ -119,6 +120,8 @@ class LiveCamera(Source):
             return False
         print(f"issv: {self.name}: camera back after {now - self._lost_at:.1f} s", file=sys.stderr)
         self._lost_at = None
+        if self._last is not None:  # time goes on from the last frame held, whatever the device's clock says
+            self._base, self._first_time = self._last.timestamp + 1.0 / self.fps, None
         return True
 
     def _hold(self) -> DepthFrame | None:

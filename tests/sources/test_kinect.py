@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from host import DeviceInfo
+from host.cli import main as issv
 from sources import usb
 from sources.fakenect import FakenectOptions, FakenectSource, read_index
 from sources.kinect import KinectOptions, KinectSource
@@ -114,7 +115,8 @@ def test_the_open_engine_finds_the_raised_hand_in_the_real_dump():
     assert len(lines) >= 90 and not any(before) and sum(during) >= 0.8 * len(during)
 
 
-def test_devices_name_a_plugged_in_kinect_and_the_udev_rule_it_needs(tmp_path, monkeypatch):
+@pytest.fixture
+def kinect_on_usb(tmp_path, monkeypatch) -> Path:
     """A sysfs tree as Linux lays it out for a Kinect camera (no Kinect is plugged in here)."""
     monkeypatch.delenv("FAKENECT_PATH", raising=False)
     cam = tmp_path / "1-2"
@@ -124,6 +126,11 @@ def test_devices_name_a_plugged_in_kinect_and_the_udev_rule_it_needs(tmp_path, m
         (cam / name).write_text(value + "\n")
     monkeypatch.setattr(usb, "SYSFS", tmp_path)
     monkeypatch.setattr(usb, "DEVFS", tmp_path / "dev")
+    return tmp_path
+
+
+def test_devices_name_a_plugged_in_kinect_and_the_udev_rule_it_needs(kinect_on_usb):
+    tmp_path = kinect_on_usb
     [device] = KinectSource.devices()
     assert (device.model, device.serial, device.firmware) == ("Xbox NUI Camera", "A00366A08453045A", "010b")
     assert 'ATTR{idVendor}=="045e", ATTR{idProduct}=="02ae", MODE="0666"' in device.problem
@@ -141,3 +148,15 @@ def test_without_a_kinect_the_source_says_to_plug_one_in(monkeypatch):
     from host.errors import UserError
     with pytest.raises(UserError, match=r"no Kinect v1 at index 0 \(0 found\): plug one in"):
         KinectSource(KinectOptions()).open()
+
+
+@pytest.mark.skipif(KinectSource.availability() is not None, reason=str(KinectSource.availability()))
+def test_issv_list_names_the_kinect_and_what_to_do(kinect_on_usb, capsys):
+    assert issv(["list", "--json"]) == 0
+    sources = {s["name"]: s for s in json.loads(capsys.readouterr().out)["sources"]}
+    [device] = sources["kinect"]["devices"]
+    assert device["serial"] == "A00366A08453045A" and "udev rule" in device["problem"]
+    assert "devices" not in sources["clip"]  # files have no devices
+    assert issv(["list"]) == 0
+    table = capsys.readouterr().out
+    assert "Xbox NUI Camera" in table and "A00366A08453045A" in table
