@@ -23,6 +23,7 @@ from __future__ import annotations
 import os
 import sys
 import threading
+import time
 from typing import Literal
 
 import numpy as np
@@ -145,11 +146,13 @@ class KinectSource(LiveCamera):
 
     def _on_depth(self, _dev, data: np.ndarray, timestamp: int) -> None:
         """libfreenect's callback: copy the image out of its buffer, replace the newest."""
+        received = time.perf_counter()
         raw = np.array(data, copy=True)
         with self._cond:
             self._wraps += timestamp < self._stamp  # the 32-bit clock wraps every 71 s
             self._stamp = timestamp
             self._raw, self._time = raw, (self._wraps * 2**32 + timestamp) / CLOCK_HZ
+            self._received = received
             self._seq += 1
             self._cond.notify_all()
 
@@ -161,9 +164,9 @@ class KinectSource(LiveCamera):
                     raise EndOfStream
                 return None
             skipped, self._taken = self._seq - self._taken - 1, self._seq
-            raw, device_time = self._raw, self._time
+            raw, device_time, received = self._raw, self._time, self._received
         depth = raw if self.options.registered else disparity_to_mm(raw)
-        return Grabbed(depth, device_time, skipped)
+        return Grabbed(depth, device_time, skipped, received)
 
     def disconnect(self) -> None:
         dev = getattr(self, "_dev", None)

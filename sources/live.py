@@ -10,7 +10,7 @@ from __future__ import annotations
 import sys
 import time
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
@@ -25,11 +25,13 @@ class EndOfStream(Exception):
 
 @dataclass(frozen=True)
 class Grabbed:
-    """One depth image from the device: millimetres, the device's clock (s), frames it skipped."""
+    """One depth image from the device: millimetres, the device's clock (s), frames it skipped,
+    and when (time.perf_counter()) the library handed it over."""
 
     depth: np.ndarray
     device_time: float
     skipped: int = 0
+    received: float = field(default_factory=time.perf_counter)
 
 
 class LiveCamera(Source):
@@ -61,6 +63,7 @@ class LiveCamera(Source):
         self._count = 0
         self._first_time: float | None = None
         self._base = 0.0  # source time where the device's clock starts (it may restart on a replug)
+        self.handover_s = 0.0
         self.connect()
 
     def close(self) -> None:
@@ -96,6 +99,7 @@ class LiveCamera(Source):
         self._last = DepthFrame(got.depth, self.intrinsics, frame_id=self._count,
                                 timestamp=self._base + got.device_time - self._first_time, mirrored=self.mirrored)
         self._count += 1
+        self.handover_s = time.perf_counter() - got.received  # what this source adds to the latency
         return self._last
 
     def _lose(self, why: str) -> None:

@@ -21,6 +21,7 @@ software device and recorder.
 from __future__ import annotations
 
 import datetime
+import time
 from pathlib import Path
 
 import numpy as np
@@ -176,6 +177,7 @@ class RealSenseSource(LiveCamera):
         while True:
             ok, frames = self._pipeline.try_wait_for_frames(POLL_MS)
             if ok:
+                received = time.perf_counter()
                 break
             if self._playback is not None and self._playback.current_status() == self._rs.playback_status.stopped:
                 raise EndOfStream
@@ -196,10 +198,50 @@ class RealSenseSource(LiveCamera):
         if self._last_ms is not None and ms + self._offset_ms <= self._last_ms:  # a loop started again
             self._offset_ms = self._last_ms + 1000.0 / self.fps - ms
         self._last_number, self._last_ms = number, ms + self._offset_ms
-        return Grabbed(depth, self._last_ms / 1000.0, skipped)
+        return Grabbed(depth, self._last_ms / 1000.0, skipped, received)
 
     def disconnect(self) -> None:
         pipeline = getattr(self, "_pipeline", None)
         if pipeline is not None:
             self._pipeline = None
             pipeline.stop()
+
+
+def write_bag(path: Path, frames: list[np.ndarray], intrinsics: Intrinsics, fps: int,
+              depth_units_m: float = 0.001, pace: bool = False) -> None:
+    """Record depth images (raw counts) into a .bag through librealsense's own software device
+    and recorder: the library's real file format, for tests and benches without a camera.
+    `pace` pushes them at `fps` in real time (the recorder stamps frames with the wall clock)."""
+    import pyrealsense2 as rs
+
+    h, w = frames[0].shape
+    device = rs.software_device()
+    device.register_info(rs.camera_info.name, "issv software depth camera")
+    device.register_info(rs.camera_info.serial_number, "000000000001")
+    sensor = device.add_sensor("Stereo Module")
+    sensor.add_read_only_option(rs.option.depth_units, depth_units_m)
+    k = rs.intrinsics()
+    k.width, k.height, k.fx, k.fy, k.ppx, k.ppy = w, h, *intrinsics.as_list()
+    k.model, k.coeffs = rs.distortion.brown_conrady, [0.0] * 5
+    stream = rs.video_stream()
+    stream.type, stream.index, stream.uid, stream.width, stream.height = rs.stream.depth, 0, 0, w, h
+    stream.fps, stream.bpp, stream.fmt, stream.intrinsics = fps, 2, rs.format.z16, k
+    profile = sensor.add_video_stream(stream).as_video_stream_profile()
+    recorder = rs.recorder(str(path), device)
+    recording = recorder.query_sensors()[0]
+    queue = rs.frame_queue(len(frames) + 1)
+    recording.open(recording.get_stream_profiles()[0])
+    recording.start(queue)
+    for i, pixels in enumerate(frames):
+        f = rs.software_video_frame()
+        f.pixels, f.stride, f.bpp, f.frame_number = np.ascontiguousarray(pixels, np.uint16), w * 2, 2, i
+        f.timestamp, f.domain = 5000.0 + i * 1000.0 / fps, rs.timestamp_domain.hardware_clock
+        f.profile, f.depth_units = profile, depth_units_m
+        sensor.on_video_frame(f)
+        if not queue.wait_for_frame(1000):
+            raise RuntimeError(f"{path}: librealsense's recorder did not take frame {i}")
+        if pace:
+            time.sleep(1.0 / fps)
+    recording.stop()
+    recording.close()
+    del recording, recorder  # the recorder writes the file's index when it is released

@@ -14,9 +14,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from host import Intrinsics
 from host.cli import main as issv
 from host.errors import UserError
-from sources.realsense import RealSenseOptions, RealSenseSource
+from sources.realsense import RealSenseOptions, RealSenseSource, write_bag
 from tests.recordings import write_profile
 
 rs = pytest.importorskip("pyrealsense2", reason="the realsense extra is not installed: pip install 'issv[realsense]'")
@@ -32,46 +33,12 @@ def frame_pixels(i: int) -> np.ndarray:
     return px
 
 
-def write_bag(path: Path, frames: int, depth_units_m: float = 0.001, pace: bool = False) -> list[np.ndarray]:
-    """Record `frames` depth frames from a librealsense software device into `path`."""
-    device = rs.software_device()
-    device.register_info(rs.camera_info.name, "issv software depth camera")
-    device.register_info(rs.camera_info.serial_number, "000000000001")
-    sensor = device.add_sensor("Stereo Module")
-    sensor.add_read_only_option(rs.option.depth_units, depth_units_m)
-    k = rs.intrinsics()
-    k.width, k.height, k.fx, k.fy, k.ppx, k.ppy = W, H, FX, FY, PPX, PPY
-    k.model, k.coeffs = rs.distortion.brown_conrady, [0.0] * 5
-    stream = rs.video_stream()
-    stream.type, stream.index, stream.uid, stream.width, stream.height = rs.stream.depth, 0, 0, W, H
-    stream.fps, stream.bpp, stream.fmt, stream.intrinsics = FPS, 2, rs.format.z16, k
-    profile = sensor.add_video_stream(stream).as_video_stream_profile()
-    recorder = rs.recorder(str(path), device)
-    recording = recorder.query_sensors()[0]
-    queue = rs.frame_queue(frames + 1)
-    recording.open(recording.get_stream_profiles()[0])
-    recording.start(queue)
-    written = []
-    for i in range(frames):
-        written.append(frame_pixels(i))
-        f = rs.software_video_frame()
-        f.pixels, f.stride, f.bpp, f.frame_number = written[-1], W * 2, 2, i
-        f.timestamp, f.domain = 5000.0 + i * 1000.0 / FPS, rs.timestamp_domain.hardware_clock
-        f.profile, f.depth_units = profile, depth_units_m
-        sensor.on_video_frame(f)
-        assert queue.wait_for_frame(1000)
-        if pace:
-            time.sleep(1.0 / FPS)
-    recording.stop()
-    recording.close()
-    del recording, recorder  # the recorder writes the file's index when it is released
-    return written
-
-
 @pytest.fixture(scope="module")
 def bag(tmp_path_factory) -> tuple[Path, list[np.ndarray]]:
     path = tmp_path_factory.mktemp("rs") / "take.bag"
-    return path, write_bag(path, 12, pace=True)
+    written = [frame_pixels(i) for i in range(12)]
+    write_bag(path, written, Intrinsics(FX, FY, PPX, PPY), FPS, pace=True)
+    return path, written
 
 
 def play(**options) -> tuple[RealSenseSource, list]:
@@ -96,7 +63,8 @@ def test_a_bag_plays_back_bit_exact_with_the_devices_intrinsics(bag):
 
 
 def test_a_scale_other_than_a_millimetre_is_converted(tmp_path):
-    written = write_bag(tmp_path / "sr305.bag", 3, depth_units_m=0.000125)  # an SR305's depth unit
+    written = [frame_pixels(i) for i in range(3)]
+    write_bag(tmp_path / "sr305.bag", written, Intrinsics(FX, FY, PPX, PPY), FPS, depth_units_m=0.000125)  # SR305
     source, frames = play(path=str(tmp_path / "sr305.bag"), realtime=False)
     assert source.depth_unit_mm == 0.125
     assert all(np.array_equal(f.data, np.round(w * 0.125).astype(np.uint16)) for f, w in zip(frames, written))
