@@ -127,3 +127,16 @@ def test_without_a_camera_the_source_says_what_to_check():
     with pytest.raises(UserError, match="cannot start any RealSense|no permission"):
         play()
     assert RealSenseSource.devices() == []
+
+
+def test_issv_record_keeps_a_realsense_take_like_any_source(bag, tmp_path):
+    from host.recording import Recording
+    from tests.recordings import record_profile
+
+    path, written = bag
+    prof = write_profile(tmp_path / "p.toml", {"name": "realsense", "path": str(path), "realtime": False},
+                         {"name": "openiss"})
+    out = record_profile(prof, tmp_path / "take.mcap", "--frames", "10")
+    with Recording(out) as rec:
+        frames = list(rec.frames())
+    assert len(frames) == 10 and np.array_equal(frames[3].depth.data, written[3])
