@@ -8,6 +8,7 @@ source reads from the same files (millimetres from the same disparities, bit for
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -102,6 +103,11 @@ def real_dump() -> Path:
 def test_the_real_desk_dump_plays_bit_exact_through_libfreenect(tmp_path):
     played = check_replay(real_dump(), tmp_path)
     assert len(played["depth"]) == 98
+    first = read_index(real_dump())[0].path.read_bytes()
+    raw = np.frombuffer(first[first.index(b"\n") + 1:], "<u2").reshape(480, 640)  # the file's own disparities
+    for v, u in ((240, 320), (100, 500), (400, 150), (300, 400)):
+        d = int(raw[v, u])
+        assert played["depth"][0][v, u] == (0 if d == 2047 else round(123.6 * math.tan(d / 2842.5 + 1.1863)))
     person = played["depth"][0][played["depth"][0] > 0]
     assert 500 < np.percentile(person, 5) < 700  # seated about 0.6 m away (its README)
 
