@@ -64,7 +64,7 @@ class Described:
     depth_unit_mm: float | None = None
     intrinsics: tuple[float, float, float, float] | None = None
     fps: float | None = None
-    source: Path | None = None
+    sources: tuple[Path, ...] = ()  # the files that said it
 
 
 def natural_key(name: str) -> list:
@@ -139,38 +139,46 @@ def _parse_text(path: Path) -> Described:
     cy = (numbers.get("cy") or pp[1:2] or [None])[0]
     intrinsics = (fx, fy, cx, cy) if None not in (fx, fy, cx, cy) else None
     fps = next((numbers[k][0] for k in ("fps", "frame rate") if numbers.get(k)), None)
-    return Described(unit, intrinsics, fps, path)
+    return Described(unit, intrinsics, fps, (path,))
 
 
 def _parse_json(path: Path) -> Described:
-    data = json.loads(path.read_text(encoding="utf-8"))
+    """A JSON description; a JSON file beside depth images that is broken, or gives one of our
+    keys a wrong value, is an error (it was surely meant to describe them)."""
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise UserError(f"{path}: not valid JSON ({error}); it should hold depth_unit_mm, intrinsics, fps") from None
     if not isinstance(data, dict):
         return Described()
-    k = data.get("intrinsics")
-    intrinsics = tuple(float(v) for v in k) if isinstance(k, list) and len(k) == 4 else None
-    unit, fps = data.get("depth_unit_mm"), data.get("fps")
-    return Described(float(unit) if unit else None, intrinsics, float(fps) if fps else None, path)
+    unit, k, fps = data.get("depth_unit_mm"), data.get("intrinsics"), data.get("fps")
+    numbers = (int, float)
+    if unit is not None and not (isinstance(unit, numbers) and unit > 0):
+        raise UserError(f"{path}: depth_unit_mm must be a number of millimetres above 0, got {unit!r}")
+    if k is not None and not (isinstance(k, list) and len(k) == 4 and all(isinstance(v, numbers) for v in k)):
+        raise UserError(f"{path}: intrinsics must be [fx, fy, cx, cy] in pixels, got {k!r}")
+    if fps is not None and not (isinstance(fps, numbers) and fps > 0):
+        raise UserError(f"{path}: fps must be a number above 0, got {fps!r}")
+    return Described(unit and float(unit), k and tuple(map(float, k)), fps and float(fps), (path,))
 
 
 def describe(folder: Path, skip: Path | None = None) -> Described:
-    """The first description found beside the images: JSON files, then text files, in the
-    images' folder, then its parent. Each value comes from the first file that gives it."""
+    """What the files beside the images say: JSON files, then text files, in the images' folder,
+    then its parent. Each value comes from the first file that gives it."""
     found: dict[str, tuple] = {}
     for place in (folder, folder.parent):
-        candidates = sorted(place.glob("*.json")) + sorted(place.glob("*.txt"))
-        for path in candidates:
+        for path in sorted(place.glob("*.json")) + sorted(place.glob("*.txt")):
             if path == skip:
                 continue
             try:
                 described = _parse_json(path) if path.suffix == ".json" else _parse_text(path)
-            except (OSError, ValueError, TypeError):
-                continue  # not a description: an image list, annotations, anything else
+            except OSError:
+                continue  # unreadable: not ours to judge
             for key in ("depth_unit_mm", "intrinsics", "fps"):
                 if getattr(described, key) is not None and key not in found:
                     found[key] = (getattr(described, key), path)
-    sources = {p for _, p in found.values()}
     return Described(*(found.get(k, (None,))[0] for k in ("depth_unit_mm", "intrinsics", "fps")),
-                     source=min(sources) if sources else None)
+                     sources=tuple(sorted({p for _, p in found.values()})))
 
 
 def mm_table(unit_mm: float) -> np.ndarray | None:
@@ -210,9 +218,10 @@ class DepthImagesSource(Source):
         else:
             self.fps = o.fps or described.fps or DEFAULT_FPS
             self.times = np.arange(len(self.files)) / self.fps
-        if described.source is not None and not (o.depth_unit_mm and o.intrinsics):
+        if described.sources:
             print(f"issv: depth-images: depth unit {self.depth_unit_mm:g} mm, intrinsics "
-                  f"{self.intrinsics.as_list()} (profile, else {described.source})", file=sys.stderr)
+                  f"{self.intrinsics.as_list()}, {self.fps:g} fps (the profile, else "
+                  f"{', '.join(map(str, described.sources))})", file=sys.stderr)
         self._played = 0
 
     def to_mm(self, raw: np.ndarray) -> np.ndarray:

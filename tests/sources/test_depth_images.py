@@ -108,6 +108,18 @@ def test_bad_folders_say_which_file_and_what_to_do(tmp_path, make, message):
         play(folder)
 
 
+@pytest.mark.parametrize("content, message", [
+    ("{depth_unit_mm: 0.125", "camera.json: not valid JSON"),
+    ('{"intrinsics": [1, 2, 3]}', r"camera.json: intrinsics must be \[fx, fy, cx, cy\]"),
+    ('{"depth_unit_mm": "0.125 mm"}', "camera.json: depth_unit_mm must be a number"),
+])
+def test_a_broken_json_description_names_the_file_and_field(tmp_path, content, message):
+    folder = write_folder(tmp_path / "depth", 1)
+    (folder / "camera.json").write_text(content)
+    with pytest.raises(UserError, match=message):
+        play(folder)
+
+
 def test_a_bad_list_line_names_the_line(tmp_path):
     listing = tmp_path / "depth.txt"
     listing.write_text("1.0 a.png\n2.0\n")
