@@ -128,6 +128,10 @@ class RealSenseSource(LiveCamera):
         self._playback = device.as_playback() if o.path is not None else None
         if self._playback is not None:
             self._playback.set_real_time(o.realtime)
+            length = self._playback.get_duration().total_seconds()
+            if o.seek > length:
+                self.disconnect()
+                raise UserError(f"{o.path}: seek = {o.seek:g} s is past the recording's end ({length:.2f} s)")
             if o.seek:
                 self._playback.seek(datetime.timedelta(seconds=o.seek))
         stream = profile.get_stream(rs.stream.depth).as_video_stream_profile()
@@ -142,8 +146,12 @@ class RealSenseSource(LiveCamera):
         self._last_number, self._last_ms, self._offset_ms = None, None, 0.0
 
     def _why_not(self, error: RuntimeError) -> str:
-        if self.options.path is not None:
-            return f"{self.options.path}: librealsense cannot play it: {error}"
+        o = self.options
+        if o.path is not None and (o.width or o.height or o.fps):
+            return (f"{o.path}: no depth stream at {o.width or 640}x{o.height or 480} @ {o.fps or 30} fps in it "
+                    f"({error}); leave width, height and fps unset to play the recording's own")
+        if o.path is not None:
+            return f"{o.path}: librealsense cannot play it: {error}"
         wanted = f"serial {self.options.serial}" if self.options.serial else "any RealSense"
         problem = usb.permission_problem(usb.find(REALSENSE_IDS))
         return problem or f"cannot start {wanted} (is it plugged in, on USB 3?): {error}"
