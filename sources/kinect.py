@@ -49,7 +49,7 @@ def load_freenect():
     to registration functions Debian's fakenect library does not have; bound eagerly (Python's
     default) the import fails under fakenect, bound lazily those functions are simply never called."""
     flags = sys.getdlopenflags()
-    sys.setdlopenflags(os.RTLD_LAZY | os.RTLD_GLOBAL)
+    sys.setdlopenflags(os.RTLD_LAZY)
     try:
         import freenect
     finally:
