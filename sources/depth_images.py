@@ -225,7 +225,7 @@ class DepthImagesSource(Source):
         self._played = 0
 
     def to_mm(self, raw: np.ndarray) -> np.ndarray:
-        return raw if self._table is None else self._table[raw]
+        return raw if self._table is None else np.take(self._table, raw)  # take: twice as fast as indexing
 
     def read(self) -> DepthFrame | None:
         n = len(self.files)

@@ -21,6 +21,7 @@ software device and recorder.
 from __future__ import annotations
 
 import datetime
+import gc
 import time
 from pathlib import Path
 
@@ -199,7 +200,7 @@ class RealSenseSource(LiveCamera):
         stream = frame.get_profile().as_video_stream_profile()
         self.intrinsics = self._intrinsics(stream)
         raw = np.asanyarray(frame.get_data())
-        depth = raw.copy() if self._table is None else self._table[raw]
+        depth = raw.copy() if self._table is None else np.take(self._table, raw)
         skipped = 0
         if self._last_number is not None and number > self._last_number:
             skipped = number - self._last_number - 1
@@ -252,4 +253,5 @@ def write_bag(path: Path, frames: list[np.ndarray], intrinsics: Intrinsics, fps:
             time.sleep(1.0 / fps)
     recording.stop()
     recording.close()
-    del recording, recorder  # the recorder writes the file's index when it is released
+    del recording, recorder, queue  # the recorder writes the file's index when it is released
+    gc.collect()
