@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import datetime
 import gc
+import multiprocessing
 import time
 from pathlib import Path
 
@@ -220,7 +221,22 @@ def write_bag(path: Path, frames: list[np.ndarray], intrinsics: Intrinsics, fps:
               depth_units_m: float = 0.001, pace: bool = False) -> None:
     """Record depth images (raw counts) into a .bag through librealsense's own software device
     and recorder: the library's real file format, for tests and benches without a camera.
-    `pace` pushes them at `fps` in real time (the recorder stamps frames with the wall clock)."""
+    `pace` pushes them at `fps` in real time (the recorder stamps frames with the wall clock).
+
+    The recording runs in a child process: pyrealsense2's `software_video_frame.pixels` has a
+    memory-ownership bug (librealsense issue #14751, a double free) that corrupted the heap of a
+    long pytest process here (wrong pixels, then a segfault); a child takes it down with it."""
+    child = multiprocessing.get_context("spawn").Process(
+        target=_record_bag, args=(str(path), frames, intrinsics.as_list(), fps, depth_units_m, pace))
+    child.start()
+    child.join()
+    if child.exitcode != 0:
+        raise RuntimeError(f"{path}: recording through librealsense's software device failed "
+                           f"(exit code {child.exitcode})")
+
+
+def _record_bag(path: str, frames: list[np.ndarray], intrinsics: list[float], fps: int,
+                depth_units_m: float, pace: bool) -> None:
     import pyrealsense2 as rs
 
     h, w = frames[0].shape
@@ -230,13 +246,13 @@ def write_bag(path: Path, frames: list[np.ndarray], intrinsics: Intrinsics, fps:
     sensor = device.add_sensor("Stereo Module")
     sensor.add_read_only_option(rs.option.depth_units, depth_units_m)
     k = rs.intrinsics()
-    k.width, k.height, k.fx, k.fy, k.ppx, k.ppy = w, h, *intrinsics.as_list()
+    k.width, k.height, k.fx, k.fy, k.ppx, k.ppy = w, h, *intrinsics
     k.model, k.coeffs = rs.distortion.brown_conrady, [0.0] * 5
     stream = rs.video_stream()
     stream.type, stream.index, stream.uid, stream.width, stream.height = rs.stream.depth, 0, 0, w, h
     stream.fps, stream.bpp, stream.fmt, stream.intrinsics = fps, 2, rs.format.z16, k
     profile = sensor.add_video_stream(stream).as_video_stream_profile()
-    recorder = rs.recorder(str(path), device)
+    recorder = rs.recorder(path, device)
     recording = recorder.query_sensors()[0]
     queue = rs.frame_queue(len(frames) + 1)
     recording.open(recording.get_stream_profiles()[0])
