@@ -46,7 +46,7 @@ class DepthImagesOptions(BaseModel):
     depth_unit_mm: float | None = Field(None, gt=0, description="millimetres per pixel count (SR305: 0.125)")
     intrinsics: list[float] | None = Field(None, description="[fx, fy, cx, cy] in pixels")
     fps: float | None = Field(None, gt=0, le=1000, description="frame rate when the list has no timestamps")
-    loop: bool = False
+    loop: bool = Field(False, description="start again after the last image")
     mirrored: bool = Field(False, description="camera tools write the camera's view, not a mirror image")
 
     @field_validator("intrinsics")
@@ -190,7 +190,7 @@ def mm_table(unit_mm: float) -> np.ndarray | None:
 
 
 class DepthImagesSource(Source):
-    """Plays the folder or list; the host paces it from the frames' timestamps."""
+    """A folder of 16-bit depth images (PNG/TIFF) or a TUM-style list, paced by the host from their timestamps."""
 
     name = "depth-images"
     Options = DepthImagesOptions

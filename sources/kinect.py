@@ -67,7 +67,8 @@ class KinectOptions(BaseModel):
     index: int = Field(0, ge=0, description="which Kinect, when several are plugged in (0: the first)")
     registered: bool = Field(False, description="libfreenect's registered depth (mm aligned to colour)")
     tilt_degrees: float | None = Field(None, ge=-30, le=30, description="tilt the motor at start (unset: leave it)")
-    led: Literal["off", "green", "red", "yellow", "blink_green", "blink_red_yellow"] | None = None
+    led: Literal["off", "green", "red", "yellow", "blink_green", "blink_red_yellow"] | None = Field(
+        None, description="set the LED at start (unset: leave it)")
 
 
 class KinectSource(LiveCamera):
