@@ -22,7 +22,10 @@ from __future__ import annotations
 
 import datetime
 import gc
-import multiprocessing
+import os
+import subprocess
+import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -135,7 +138,7 @@ class RealSenseSource(LiveCamera):
                 self.disconnect()
                 raise UserError(f"{o.path}: seek = {o.seek:g} s is past the recording's end ({length:.2f} s)")
             if o.seek:
-                self._playback.seek(datetime.timedelta(seconds=o.seek))
+                self._seek(o.seek)
         stream = profile.get_stream(rs.stream.depth).as_video_stream_profile()
         self.fps = float(stream.fps())
         # The scale is a float32 (0.001 m reads 0.0010000000474974513): its 6 digits are the meant value.
@@ -146,6 +149,16 @@ class RealSenseSource(LiveCamera):
         self.width, self.height = stream.width() // o.decimation, stream.height() // o.decimation
         self.intrinsics = self._intrinsics(stream)
         self._last_number, self._last_ms, self._offset_ms = None, None, 0.0
+
+    def _seek(self, seconds: float) -> None:
+        """Seek with the player paused, then drop what it queued before the seek (the pipeline
+        starts playing at once, so the file's first frames may already be waiting)."""
+        self._playback.pause()
+        self._playback.seek(datetime.timedelta(seconds=seconds))
+        time.sleep(POLL_MS / 1000)  # a frame read before the pause reaches the queue
+        while self._pipeline.poll_for_frames():
+            pass
+        self._playback.resume()
 
     def _why_not(self, error: RuntimeError) -> str:
         o = self.options
@@ -223,22 +236,30 @@ def write_bag(path: Path, frames: list[np.ndarray], intrinsics: Intrinsics, fps:
     and recorder: the library's real file format, for tests and benches without a camera.
     `pace` pushes them at `fps` in real time (the recorder stamps frames with the wall clock).
 
-    The recording runs in a child process: pyrealsense2's `software_video_frame.pixels` has a
+    The recording runs in a child Python: pyrealsense2's `software_video_frame.pixels` has a
     memory-ownership bug (librealsense issue #14751, a double free) that corrupted the heap of a
     long pytest process here (wrong pixels, then a segfault); a child takes it down with it."""
-    child = multiprocessing.get_context("spawn").Process(
-        target=_record_bag, args=(str(path), frames, intrinsics.as_list(), fps, depth_units_m, pace))
-    child.start()
-    child.join()
-    if child.exitcode != 0:
+    with tempfile.TemporaryDirectory(prefix="issv-bag-") as tmp:
+        job = Path(tmp) / "frames.npz"
+        np.savez(job, frames=np.stack(frames), intrinsics=intrinsics.as_list(), fps=fps,
+                 depth_units_m=depth_units_m, pace=pace)
+        here = str(Path(__file__).resolve().parents[1])
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [here, os.environ.get("PYTHONPATH")]))}
+        done = subprocess.run([sys.executable, "-c", "import sys; from sources.realsense import _record_bag; "
+                               "_record_bag(*sys.argv[1:])", str(path), str(job)],
+                              capture_output=True, text=True, env=env, timeout=300)
+    if done.returncode != 0:
         raise RuntimeError(f"{path}: recording through librealsense's software device failed "
-                           f"(exit code {child.exitcode})")
+                           f"(exit code {done.returncode}): {done.stderr[-500:]}")
 
 
-def _record_bag(path: str, frames: list[np.ndarray], intrinsics: list[float], fps: int,
-                depth_units_m: float, pace: bool) -> None:
+def _record_bag(path: str, job: str) -> None:
+    """The child's side of write_bag: the frames and settings come in an .npz."""
     import pyrealsense2 as rs
 
+    with np.load(job) as z:
+        frames, intrinsics, fps = list(z["frames"]), [float(v) for v in z["intrinsics"]], int(z["fps"])
+        depth_units_m, pace = float(z["depth_units_m"]), bool(z["pace"])
     h, w = frames[0].shape
     device = rs.software_device()
     device.register_info(rs.camera_info.name, "issv software depth camera")

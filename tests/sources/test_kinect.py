@@ -42,7 +42,8 @@ while (frame := source.read()) is not None:
     frames.append(frame)
 source.close()
 np.savez(sys.argv[1], depth=np.stack([f.data for f in frames]), times=[f.timestamp for f in frames])
-print(json.dumps({"health": source.health(), "devices": [d.model for d in KinectSource.devices()]}))
+print(json.dumps({"health": source.health(), "dropped": source.dropped,
+                  "devices": [d.model for d in KinectSource.devices()]}))
 """
 
 TRACK = """
@@ -69,20 +70,29 @@ def direct(dump: Path) -> np.ndarray:
     return np.stack([f.data for f in iter(source.read, None)])
 
 
-def check_replay(dump: Path, tmp_path: Path) -> np.lib.npyio.NpzFile:
+def check_replay(dump: Path, tmp_path: Path) -> tuple[np.lib.npyio.NpzFile, list[int]]:
+    """Every frame the kinect source delivered equals the file it came from, bit for bit. The
+    replay runs in real time, so a loaded machine may miss one: then it must count it as dropped."""
     report = json.loads(under_fakenect(dump, PLAY, str(tmp_path / "played.npz")).splitlines()[-1])
     played = np.load(tmp_path / "played.npz")
-    assert np.array_equal(played["depth"], direct(dump))  # every frame, bit for bit
     stamps = np.array([int(e.path.stem.rsplit("-", 1)[1]) for e in read_index(dump)], np.float64)
-    assert played["times"] == pytest.approx((stamps - stamps[0]) / 60e6, abs=1e-6)  # the device's 60 MHz clock
-    assert report["devices"] == ["fakenect replay"] and "dropped 0" in report["health"]
-    return played
+    times = (stamps - stamps[0]) / 60e6  # the device's 60 MHz clock
+    for first in range(len(times)):  # the source's clock starts at the first frame it delivered
+        index = [int(np.argmin(np.abs(times - times[first] - t))) for t in played["times"]]
+        if np.allclose(times[index] - times[first], played["times"], atol=1e-6):
+            break
+    assert index[0] == first and index == sorted(set(index))
+    expected = direct(dump)
+    assert all(np.array_equal(frame, expected[i]) for frame, i in zip(played["depth"], index))
+    assert len(index) >= 0.9 * len(expected) and report["dropped"] == len(expected) - len(index)
+    assert report["devices"] == ["fakenect replay"] and f"dropped {report['dropped']}" in report["health"]
+    return played, index
 
 
 @needs_fakenect
 def test_a_dump_plays_through_libfreenect_exactly_as_its_files_say(tmp_path):
-    played = check_replay(dump_folder(tmp_path / "dump", frames=8), tmp_path)
-    assert played["depth"].shape == (8, 480, 640) and played["depth"][0, 200, 250] == pytest.approx(1500, rel=0.01)
+    played, _ = check_replay(dump_folder(tmp_path / "dump", frames=8), tmp_path)
+    assert played["depth"].shape[1:] == (480, 640) and played["depth"][0, 200, 250] == pytest.approx(1500, rel=0.01)
 
 
 @needs_fakenect
@@ -101,9 +111,9 @@ def real_dump() -> Path:
 
 @needs_fakenect
 def test_the_real_desk_dump_plays_bit_exact_through_libfreenect(tmp_path):
-    played = check_replay(real_dump(), tmp_path)
-    assert len(played["depth"]) == 98
-    first = read_index(real_dump())[0].path.read_bytes()
+    played, index = check_replay(real_dump(), tmp_path)
+    assert len(read_index(real_dump())) == 98
+    first = read_index(real_dump())[index[0]].path.read_bytes()
     raw = np.frombuffer(first[first.index(b"\n") + 1:], "<u2").reshape(480, 640)  # the file's own disparities
     for v, u in ((240, 320), (100, 500), (400, 150), (300, 400)):
         d = int(raw[v, u])
