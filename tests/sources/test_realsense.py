@@ -50,16 +50,24 @@ def play(**options) -> tuple[RealSenseSource, list]:
         source.close()
 
 
+def delivered(frames: list, written: list[np.ndarray]) -> list[int]:
+    """Which written frame each played frame is, bit for bit (fails on any other content)."""
+    ids = [next((i for i, w in enumerate(written) if np.array_equal(f.data, w)), None) for f in frames]
+    assert None not in ids, "a played frame matches no written frame"
+    return ids
+
+
 def test_a_bag_plays_back_bit_exact_with_the_devices_intrinsics(bag):
     path, written = bag
     assert path.read_bytes()[:13] == b"#ROSBAG V2.0\n"  # a ROS 1 bag, as the RealSense Viewer writes
     source, frames = play(path=str(path), realtime=False)
-    assert len(frames) == len(written)
-    assert all(np.array_equal(f.data, w) for f, w in zip(frames, written))
+    ids = delivered(frames, written)  # each frame bit for bit one of those written, in order
+    assert ids == sorted(set(ids)) and ids[0] <= 1 and ids[-1] == 11
+    assert len(ids) + source.dropped == 12 and len(ids) >= 10  # a starved machine may drop: counted
     assert source.intrinsics.as_list() == pytest.approx([FX, FY, PPX, PPY])
     assert source.fps == FPS and source.depth_unit_mm == 1.0
-    assert [f.timestamp for f in frames] == pytest.approx([i / FPS for i in range(12)], abs=1e-6)
-    assert "dropped 0" in source.health() and not frames[0].mirrored
+    assert [f.timestamp for f in frames] == pytest.approx([(i - ids[0]) / FPS for i in ids], abs=1e-6)
+    assert f"dropped {source.dropped}" in source.health() and not frames[0].mirrored
 
 
 def test_a_scale_other_than_a_millimetre_is_converted(tmp_path):
@@ -83,7 +91,7 @@ def test_realtime_playback_keeps_the_recorded_pace(bag):
 def test_seek_starts_later_and_loop_runs_on_forward_in_time(bag):
     path, written = bag
     seeking, frames = play(path=str(path), realtime=False, seek=0.2)
-    ids = [next(i for i, w in enumerate(written) if np.array_equal(f.data, w)) for f in frames]
+    ids = delivered(frames, written)
     assert 1 < ids[0] < 11 and ids[-1] == 11  # ~6: the recorder stamped frames as paced
     assert all(b > a for a, b in zip(ids, ids[1:])) and seeking.dropped == 12 - ids[0] - len(ids)  # drops counted
     source = RealSenseSource(RealSenseOptions(path=str(path), realtime=False, loop=True))
