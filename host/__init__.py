@@ -1,5 +1,5 @@
 """issv host: the frozen core. Plugins import what they need from here and nowhere else in host."""
-from host.contracts import Backend, Effect, NoOptions, Plugin, PluginUnavailable, Source, Stage
+from host.contracts import Backend, DeviceInfo, Effect, NoOptions, Plugin, PluginUnavailable, Source, Stage
 from host.hookspecs import hookimpl
 from host.model import (
     CANONICAL_GESTURES,
@@ -21,7 +21,7 @@ from host.callbacks import SimpleOpenNIEffect
 __version__ = "0.1.0"
 
 __all__ = [
-    "Backend", "CANONICAL_GESTURES", "DepthFrame", "Effect", "Frame", "Gesture", "GestureState",
+    "Backend", "CANONICAL_GESTURES", "DepthFrame", "DeviceInfo", "Effect", "Frame", "Gesture", "GestureState",
     "GestureType", "Hand", "HandState", "Intrinsics", "NoOptions", "Plugin", "PluginUnavailable",
     "SimpleOpenNIEffect", "Side", "Source", "Stage", "Truth", "TruthGesture", "Vec3", "hookimpl", "__version__",
 ]

@@ -40,6 +40,17 @@ class Plugin:
         return None
 
 
+@dataclass(frozen=True)
+class DeviceInfo:
+    """A camera a source can open, as `issv list` names it; `problem` says why it cannot be opened here."""
+
+    model: str
+    serial: str = ""
+    firmware: str = ""
+    modes: tuple[str, ...] = ()
+    problem: str | None = None
+
+
 class Source(Plugin):
     """Where depth comes from. `read()` returns the next frame, or None at the end of the stream.
 
@@ -50,6 +61,15 @@ class Source(Plugin):
     fps: float = 30.0
     live: ClassVar[bool] = False
     intrinsics: Intrinsics
+
+    @classmethod
+    def devices(cls) -> list[DeviceInfo] | None:
+        """Cameras connected now (an empty list: none); None for sources that read files."""
+        return None
+
+    def health(self) -> str | None:
+        """One line for the HUD from a live source: its device's own rate, dropped frames, state."""
+        return None
 
     def open(self) -> None:
         """Acquire the device or file."""

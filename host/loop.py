@@ -241,6 +241,7 @@ class Show:
     def _play(self) -> None:
         if self.backend.source is not None:
             self.metrics.source_fps = float(self.backend.source.fps)
+            self.metrics.source_health = self.backend.source.health
         self.backend.start_hand_tracking()
         self.backend.start_gesture_detection()
         if self.pm is not None:

@@ -5,6 +5,7 @@ import time
 from array import array
 from collections import Counter, deque
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 
@@ -40,6 +41,12 @@ class Metrics:
     _recent_frames: deque = field(default_factory=lambda: deque(maxlen=64))
     _recent_renders: deque = field(default_factory=lambda: deque(maxlen=128))
     last_gestures: deque = field(default_factory=lambda: deque(maxlen=5))
+    source_health: Callable[[], str | None] | None = None  # a live source's own rate, drops, state
+
+    def source_line(self) -> str:
+        """What the source says about itself (a camera: its rate, dropped frames, whether it is there)."""
+        said = self.source_health() if self.source_health is not None else None
+        return said or f"source {self.source_fps:5.1f} Hz"
 
     def sensor_frame(self, frame: Frame) -> None:
         now = time.time()
