@@ -11,9 +11,12 @@ from host.model import (
     Hand,
     HandState,
     Intrinsics,
+    JOINTS,
+    Joint,
     Side,
     Truth,
     TruthGesture,
+    User,
     Vec3,
 )
 from host.callbacks import SimpleOpenNIEffect
@@ -22,6 +25,6 @@ __version__ = "0.1.0"
 
 __all__ = [
     "Backend", "CANONICAL_GESTURES", "DepthFrame", "Effect", "Frame", "Gesture", "GestureState",
-    "GestureType", "Hand", "HandState", "Intrinsics", "NoOptions", "Plugin", "PluginUnavailable",
-    "SimpleOpenNIEffect", "Side", "Source", "Stage", "Truth", "TruthGesture", "Vec3", "hookimpl", "__version__",
+    "GestureType", "Hand", "HandState", "Intrinsics", "JOINTS", "Joint", "NoOptions", "Plugin", "PluginUnavailable",
+    "SimpleOpenNIEffect", "Side", "Source", "Stage", "Truth", "TruthGesture", "User", "Vec3", "hookimpl", "__version__",
 ]

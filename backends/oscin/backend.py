@@ -1,0 +1,186 @@
+"""`osc-in`: users, hands and gestures from the skeleton trackers artists already run.
+
+OSCeleton, Synapse, NI mate, KinectV2-OSC, MediaPipe-to-OSC bridges or the artist's own addresses
+(schemes.py) arrive over UDP (receiver.py); each frame the backend drains the complete samples,
+runs each user's recogniser on them (users.py) and reports users, both hands of each and the
+gestures. Frames carry no depth image: the source's clock is `Frame.time`, seconds since the
+first message.
+"""
+from __future__ import annotations
+
+import sys
+import time
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from backends.engine.recognizer import GestureRecognizer
+from backends.engine.rules import GestureRules
+from backends.oscin.receiver import Announcement, Receiver
+from backends.oscin.schemes import (CustomScheme, InputTemplate, KinectV2Scheme, MediaPipeScheme, NiMateScheme,
+                                    OSCeletonScheme, Scheme, SynapseScheme)
+from backends.oscin.users import Users
+from host import Backend, Frame, Gesture, PluginUnavailable
+
+SchemeName = Literal["osceleton", "synapse", "ni-mate", "kinectv2", "mediapipe", "custom"]
+#: where each bridge sends by default (OSCeleton 7110, Synapse 12345, NI mate 7000, KinectV2-OSC 12345)
+DEFAULT_PORT = {"osceleton": 7110, "synapse": 12345, "ni-mate": 7000, "kinectv2": 12345, "mediapipe": 9000,
+                "custom": 9000}
+SYNAPSE_LISTENS = 12346  # where Synapse takes its keep-alive messages
+
+
+class OscInOptions(BaseModel):
+    """What a profile may set for `osc-in` (README.md, OSC in)."""
+
+    model_config = ConfigDict(extra="forbid")
+    scheme: SchemeName = "osceleton"
+    port: int | None = Field(None, ge=0, lt=65536)  # default: the bridge's usual port; 0: any free port
+    host: str = "0.0.0.0"  # the address to listen on
+    lost_timeout_s: float = Field(1.0, gt=0)  # a user whose messages stop this long is LOST
+    fps: float = Field(30.0, gt=0, le=240)  # frames per second at most (and at least, while users are in view)
+    end_after_idle_s: float = Field(0.0, ge=0)  # > 0: the stream ends after this long without a message
+    reach_mm: float = Field(350.0, gt=0)  # a hand farther out from the torso is `extended`
+    multiplier: tuple[float, float, float] = (1.0, 1.0, 1.0)  # osceleton: its -mx -my -mz, undone
+    offset: tuple[float, float, float] = (0.0, 0.0, 0.0)  # osceleton: its -ox -oy -oz, undone
+    kitchen_depth_mm: float = Field(2000.0, gt=0)  # osceleton -k sends no z: joints are placed this far
+    synapse_host: str = "127.0.0.1"  # synapse: where Synapse runs (it takes keep-alives on port 12346)
+    mediapipe_address: str = "/pose"  # mediapipe: the landmark list's address (or ADDRESS/<person>)
+    mediapipe_depth_mm: float = Field(2500.0, gt=0)  # mediapipe: how far from the camera the hips are
+    mirrored: bool | None = None  # whether +x is the performer's right; default: the scheme's
+    scale: float = 1.0  # custom: multiply positions by this to get millimetres (1000 for metres)
+    messages: list[InputTemplate] = []  # custom: the templates
+    gestures: GestureRules = Field(default_factory=GestureRules)
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.scheme == "custom" and not self.messages:
+            raise ValueError('scheme "custom" reads only the templates: add [[backend.messages]] tables')
+        if any(m == 0 for m in self.multiplier):
+            raise ValueError("multiplier must not be 0 on any axis (OSCeleton's -mx/-my/-mz as it ran)")
+        return self
+
+
+def make_scheme(o: OscInOptions) -> Scheme:
+    if o.scheme == "osceleton":
+        return OSCeletonScheme(o.multiplier, o.offset, o.kitchen_depth_mm)
+    if o.scheme == "synapse":
+        return SynapseScheme()
+    if o.scheme == "ni-mate":
+        return NiMateScheme()
+    if o.scheme == "kinectv2":
+        return KinectV2Scheme()
+    if o.scheme == "mediapipe":
+        return MediaPipeScheme(o.mediapipe_address, o.mediapipe_depth_mm)
+    return CustomScheme(o.messages, o.scale)
+
+
+def warn_stderr(text: str) -> None:
+    print(f"issv: osc-in: {text}", file=sys.stderr, flush=True)
+
+
+class OscInBackend(Backend):
+    """Skeletons over OSC -> users, hands (both, all the time) and gestures per user."""
+
+    name = "osc-in"
+    Options = OscInOptions
+    needs_source = False
+    #: what kind of input it takes (`issv check` compares it with the source's)
+    input_kind = "skeleton (OSC)"
+
+    def __init__(self, source=None, options: OscInOptions | None = None, warn=warn_stderr) -> None:
+        super().__init__(source, options)
+        self.warn = warn
+
+    @classmethod
+    def recognizer(cls, options: OscInOptions | None = None) -> GestureRecognizer:
+        """The recogniser each user gets (`issv gestures --backend osc-in`)."""
+        options = options if options is not None else cls.Options()
+        return GestureRecognizer(options.gestures)
+
+    def init(self) -> None:
+        o = self.options
+        self.scheme = make_scheme(o)
+        mirrored = self.scheme.mirrored if o.mirrored is None else o.mirrored
+        self.mirrored = mirrored
+        self.users = Users(lambda: self.recognizer(o), o.lost_timeout_s, mirrored, o.reach_mm)
+        port = DEFAULT_PORT[o.scheme] if o.port is None else o.port
+        keepalive = (o.synapse_host, SYNAPSE_LISTENS) if o.scheme == "synapse" else None
+        try:
+            self.receiver = Receiver(self.scheme, o.host, port, self.warn, keepalive)
+        except OSError as error:
+            raise PluginUnavailable(str(error)) from None
+        self.receiver.start()
+        self.port = self.receiver.port
+        self._seq = 0
+        self._origin: float | None = None  # Unix time of the first sample: Frame.time 0
+        self._last_frame = 0.0
+        self._ended = False
+        #: seconds each frame took to rebuild users, hands and gestures (the bench reads them)
+        self.rebuild_s: list[float] = []
+        self._last_t = (0.0, time.monotonic())  # (source time of the newest sample, its arrival)
+
+    def update(self) -> Frame | None:
+        o, rx = self.options, self.receiver
+        while True:
+            rx.arrived.wait(1.0 / o.fps)
+            rx.arrived.clear()
+            wait = self._last_frame + 1.0 / (2 * o.fps) - time.monotonic()  # never faster than 2 x fps
+            if wait > 0:
+                time.sleep(wait)
+            if self._idle_end():
+                return None
+            if rx.queue or len(self.users):
+                break
+        start = time.perf_counter()
+        now = time.monotonic()
+        gestures: list[Gesture] = []
+        t = self._now_t()
+        while rx.queue:
+            item = rx.queue.popleft()
+            t = self._source_t(item.t)
+            self._last_t = (t, item.arrival)
+            if isinstance(item, Announcement):
+                if item.event.kind == "new":
+                    self.users.announce(item.event.user, item.arrival)
+                else:
+                    gestures += self.users.leave(item.event.user, t)
+            else:
+                gestures += self.users.sample(item.user, item.joints, t, item.arrival)
+        gestures += self.users.expire(now, t)
+        users, hands = self.users.report()
+        self.rebuild_s.append(time.perf_counter() - start)
+        self._seq += 1
+        self._last_frame = time.monotonic()
+        capture = time.time() - (now - rx.last_arrival) if rx.last_arrival is not None else time.time()
+        return Frame(self._seq, capture, None, hands if self.tracking_hands else (),
+                     tuple(gestures) if self.detecting_gestures else (), self.name, users=users, time=t)
+
+    def _source_t(self, unix: float) -> float:
+        if self._origin is None:
+            self._origin = unix
+        return unix - self._origin
+
+    def _now_t(self) -> float:
+        """The source time now: the newest sample's, plus the time since it arrived."""
+        t, arrival = self._last_t
+        return t + (time.monotonic() - arrival) if self._origin is not None else 0.0
+
+    def _idle_end(self) -> bool:
+        """With end_after_idle_s: the stream is over once that long passed without a message and
+        every user has been reported LOST."""
+        limit, last = self.options.end_after_idle_s, self.receiver.last_arrival
+        if not limit or last is None or self.receiver.queue:
+            return False
+        return time.monotonic() - last > max(limit, self.options.lost_timeout_s) and not len(self.users)
+
+    def finish(self) -> tuple[Gesture, ...]:
+        return ()
+
+    def stop(self) -> None:
+        super().stop()
+        receiver = getattr(self, "receiver", None)
+        if receiver is not None:
+            receiver.close()
+            if receiver.bad:
+                counts = ", ".join(f"{n} {kind}" for kind, n in receiver.bad.most_common())
+                self.warn(f"{receiver.messages} messages, ignored: {counts}")
