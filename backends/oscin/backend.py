@@ -26,7 +26,6 @@ SchemeName = Literal["osceleton", "synapse", "ni-mate", "kinectv2", "mediapipe",
 #: where each bridge sends by default (OSCeleton 7110, Synapse 12345, NI mate 7000, KinectV2-OSC 12345)
 DEFAULT_PORT = {"osceleton": 7110, "synapse": 12345, "ni-mate": 7000, "kinectv2": 12345, "mediapipe": 9000,
                 "custom": 9000}
-SYNAPSE_LISTENS = 12346  # where Synapse takes its keep-alive messages
 
 
 class OscInOptions(BaseModel):
@@ -39,11 +38,14 @@ class OscInOptions(BaseModel):
     lost_timeout_s: float = Field(1.0, gt=0)  # a user whose messages stop this long is LOST
     fps: float = Field(30.0, gt=0, le=240)  # frames per second at most (and at least, while users are in view)
     end_after_idle_s: float = Field(0.0, ge=0)  # > 0: the stream ends after this long without a message
+    # (ten times as long before the first one)
+    # (users still in view are LOST in its last frame, their strokes judged as at the end of a clip)
     reach_mm: float = Field(350.0, gt=0)  # a hand farther out from the torso is `extended`
     multiplier: tuple[float, float, float] = (1.0, 1.0, 1.0)  # osceleton: its -mx -my -mz, undone
     offset: tuple[float, float, float] = (0.0, 0.0, 0.0)  # osceleton: its -ox -oy -oz, undone
     kitchen_depth_mm: float = Field(2000.0, gt=0)  # osceleton -k sends no z: joints are placed this far
-    synapse_host: str = "127.0.0.1"  # synapse: where Synapse runs (it takes keep-alives on port 12346)
+    synapse_host: str = "127.0.0.1"  # synapse: where Synapse runs, to send it the keep-alives it needs
+    synapse_port: int = Field(12346, gt=0, lt=65536)  # synapse: where Synapse takes them
     mediapipe_address: str = "/pose"  # mediapipe: the landmark list's address (or ADDRESS/<person>)
     mediapipe_depth_mm: float = Field(2500.0, gt=0)  # mediapipe: how far from the camera the hips are
     mirrored: bool | None = None  # whether +x is the performer's right; default: the scheme's
@@ -104,7 +106,7 @@ class OscInBackend(Backend):
         self.mirrored = mirrored
         self.users = Users(lambda: self.recognizer(o), o.lost_timeout_s, mirrored, o.reach_mm)
         port = DEFAULT_PORT[o.scheme] if o.port is None else o.port
-        keepalive = (o.synapse_host, SYNAPSE_LISTENS) if o.scheme == "synapse" else None
+        keepalive = (o.synapse_host, o.synapse_port) if o.scheme == "synapse" else None
         try:
             self.receiver = Receiver(self.scheme, o.host, port, self.warn, keepalive)
         except OSError as error:
@@ -115,6 +117,7 @@ class OscInBackend(Backend):
         self._origin: float | None = None  # Unix time of the first sample: Frame.time 0
         self._last_frame = 0.0
         self._ended = False
+        self._started = time.monotonic()
         #: seconds each frame took to rebuild users, hands and gestures (the bench reads them)
         self.rebuild_s: list[float] = []
         self._last_t = (0.0, time.monotonic())  # (source time of the newest sample, its arrival)
@@ -122,13 +125,18 @@ class OscInBackend(Backend):
     def update(self) -> Frame | None:
         o, rx = self.options, self.receiver
         while True:
+            if self._ended:
+                return None
             rx.arrived.wait(1.0 / o.fps)
             rx.arrived.clear()
             wait = self._last_frame + 1.0 / (2 * o.fps) - time.monotonic()  # never faster than 2 x fps
             if wait > 0:
                 time.sleep(wait)
-            if self._idle_end():
-                return None
+            if self._idle():
+                self._ended = True
+                if not rx.queue and not len(self.users):
+                    return None
+                break  # a last frame: what arrived, and the users still in view LOST
             if rx.queue or len(self.users):
                 break
         start = time.perf_counter()
@@ -146,7 +154,7 @@ class OscInBackend(Backend):
                     gestures += self.users.leave(item.event.user, t)
             else:
                 gestures += self.users.sample(item.user, item.joints, t, item.arrival)
-        gestures += self.users.expire(now, t)
+        gestures += self.users.finish(t) if self._ended else self.users.expire(now, t)
         users, hands = self.users.report()
         self.rebuild_s.append(time.perf_counter() - start)
         self._seq += 1
@@ -165,16 +173,15 @@ class OscInBackend(Backend):
         t, arrival = self._last_t
         return t + (time.monotonic() - arrival) if self._origin is not None else 0.0
 
-    def _idle_end(self) -> bool:
-        """With end_after_idle_s: the stream is over once that long passed without a message and
-        every user has been reported LOST."""
+    def _idle(self) -> bool:
+        """With end_after_idle_s: nothing arrived for that long (before the first message, for ten
+        times that long: a bridge may take a while to start)."""
         limit, last = self.options.end_after_idle_s, self.receiver.last_arrival
-        if not limit or last is None or self.receiver.queue:
+        if not limit or self.receiver.queue:
             return False
-        return time.monotonic() - last > max(limit, self.options.lost_timeout_s) and not len(self.users)
-
-    def finish(self) -> tuple[Gesture, ...]:
-        return ()
+        if last is None:
+            return time.monotonic() - self._started > 10 * limit
+        return time.monotonic() - last > limit
 
     def stop(self) -> None:
         super().stop()

@@ -74,6 +74,9 @@ def _floats(address: str, args: Sequence[Any], n: int) -> list[float]:
 
 
 def _user(address: str, value: Any) -> int:
+    """A user id: an int, or a whole float (Pure Data has only floats)."""
+    if isinstance(value, float) and value.is_integer():
+        return int(value)
     if isinstance(value, bool) or not isinstance(value, int):
         raise BadMessage(f"{address} without an integer user id", f"got {value!r}")
     return value

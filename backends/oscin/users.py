@@ -98,6 +98,16 @@ class Users:
                 gestures += self._flush(u, max(t, u.sample_t or t))
         return gestures
 
+    def finish(self, t: float) -> list[Gesture]:
+        """The stream ended: every user still in view is lost; its recogniser judges what is
+        pending as at the end of a clip (GestureRecognizer.finish)."""
+        gestures = []
+        for u in self._users.values():
+            if not u.lost:
+                u.lost = True
+                gestures += [replace(g, user_id=u.id) for g in u.recognizer.finish()]
+        return gestures
+
     def report(self) -> tuple[tuple[User, ...], tuple[Hand, ...]]:
         """This frame's users and hands; a LOST user is reported once, then forgotten."""
         users, hands = [], []
