@@ -6,7 +6,9 @@ FILE is Pure Data `qlist` text, as Pd records OSC it receives: one message per l
 OSCeleton's own addresses get its documented tags (`/joint` s i f f f, user messages i), other
 arguments are i when written as integers, f when numbers, s otherwise. Lines of one instant (a
 delta of 0 after the first) go out as one bundle, as OSCeleton sent each frame; `--no-bundle`
-sends every message on its own, as Pd's qlist does.
+sends every message on its own, as Pd's qlist does. `--time-tags` stamps each bundle with its
+instant in the session (from the wall clock at the start, not scaled by `--speed`), so a
+receiver that honours time tags (osc-in does) sees the session's own timing at any speed.
 """
 from __future__ import annotations
 
@@ -35,6 +37,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--port", type=int, default=7110, help="UDP port (default 7110, OSCeleton's)")
     p.add_argument("--speed", type=float, default=1.0, help="playback speed (2: twice as fast; default 1)")
     p.add_argument("--no-bundle", action="store_true", help="send each message alone instead of one bundle per instant")
+    p.add_argument("--time-tags", action="store_true",
+                   help="stamp each bundle with its time in the session (osc-in then keeps the session's timing at any --speed)")
 
 
 def _typed(address: str, words: list[str]) -> tuple[tuple[str, object], ...]:
@@ -100,11 +104,14 @@ def instants(lines: list[Line]) -> list[list[Line]]:
     return groups
 
 
-def replay(lines: list[Line], host: str, port: int, speed: float = 1.0, bundle: bool = True) -> dict:
+def replay(lines: list[Line], host: str, port: int, speed: float = 1.0, bundle: bool = True,
+           time_tags: bool = False) -> dict:
     """Send the lines at their times; returns what was sent and how late the latest send was."""
+    from backends.oscin.decode import time_tag
     from effects.osc.wire import Message, encode, encode_bundle
     sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     start, datagrams, late = time.perf_counter(), 0, 0.0
+    wall = time.time()
     try:
         for group in instants(lines):
             due = start + group[0].at_ms / 1000.0 / speed
@@ -113,7 +120,8 @@ def replay(lines: list[Line], host: str, port: int, speed: float = 1.0, bundle: 
                 time.sleep(delay)
             late = max(late, time.perf_counter() - due)
             messages = [Message(line.address, line.args) for line in group]
-            payloads = [encode_bundle(messages, False)] if bundle else [encode(m, False) for m in messages]
+            tag = time_tag(wall + group[0].at_ms / 1000.0) if time_tags else 1
+            payloads = [encode_bundle(messages, False, tag)] if bundle else [encode(m, False) for m in messages]
             for data in payloads:
                 sock.sendto(data, (host, port))
                 datagrams += 1
@@ -127,8 +135,10 @@ def main(args: argparse.Namespace) -> int:
     from host.errors import UserError
     if args.speed <= 0:
         raise UserError(f"--speed must be > 0, got {args.speed}")
+    if args.time_tags and args.no_bundle:
+        raise UserError("--time-tags needs bundles (OSC messages alone carry no time tag): drop --no-bundle")
     lines = read_qlist(args.file)
-    report = replay(lines, args.host, args.port, args.speed, not args.no_bundle)
+    report = replay(lines, args.host, args.port, args.speed, not args.no_bundle, args.time_tags)
     print(f"osc-replay: {report['messages']} messages in {report['datagrams']} datagrams to "
           f"{args.host}:{args.port} in {report['seconds']:.1f} s (latest send {report['max_late_ms']:.1f} ms late)",
           file=sys.stderr)
