@@ -114,12 +114,12 @@ class OscInBackend(Backend):
         self.receiver.start()
         self.port = self.receiver.port
         self._seq = 0
-        self._origin: float | None = None  # Unix time of the first sample: Frame.time 0
         self._last_frame = 0.0
         self._ended = False
         self._started = time.monotonic()
-        #: seconds each frame took to rebuild users, hands and gestures (the bench reads them)
+        #: seconds each frame took to rebuild users and hands, and in the recognisers (the bench reads them)
         self.rebuild_s: list[float] = []
+        self.recognise_s: list[float] = []
         self._last_t = (0.0, time.monotonic())  # (source time of the newest sample, its arrival)
 
     def update(self) -> Frame | None:
@@ -145,7 +145,7 @@ class OscInBackend(Backend):
         t = self._now_t()
         while rx.queue:
             item = rx.queue.popleft()
-            t = self._source_t(item.t)
+            t = item.t
             self._last_t = (t, item.arrival)
             if isinstance(item, Announcement):
                 if item.event.kind == "new":
@@ -156,22 +156,19 @@ class OscInBackend(Backend):
                 gestures += self.users.sample(item.user, item.joints, t, item.arrival)
         gestures += self.users.finish(t) if self._ended else self.users.expire(now, t)
         users, hands = self.users.report()
-        self.rebuild_s.append(time.perf_counter() - start)
+        self.recognise_s.append(self.users.recognising)
+        self.rebuild_s.append(time.perf_counter() - start - self.users.recognising)
+        self.users.recognising = 0.0
         self._seq += 1
         self._last_frame = time.monotonic()
         capture = time.time() - (now - rx.last_arrival) if rx.last_arrival is not None else time.time()
         return Frame(self._seq, capture, None, hands if self.tracking_hands else (),
                      tuple(gestures) if self.detecting_gestures else (), self.name, users=users, time=t)
 
-    def _source_t(self, unix: float) -> float:
-        if self._origin is None:
-            self._origin = unix
-        return unix - self._origin
-
     def _now_t(self) -> float:
         """The source time now: the newest sample's, plus the time since it arrived."""
         t, arrival = self._last_t
-        return t + (time.monotonic() - arrival) if self._origin is not None else 0.0
+        return t + (time.monotonic() - arrival) if self.receiver.last_arrival is not None else 0.0
 
     def _idle(self) -> bool:
         """With end_after_idle_s: nothing arrived for that long (before the first message, for ten

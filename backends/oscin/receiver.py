@@ -17,7 +17,7 @@ from collections import Counter, deque
 from dataclasses import dataclass
 from typing import Callable
 
-from backends.oscin.decode import IMMEDIATELY, OscError, decode, unix_seconds
+from backends.oscin.decode import IMMEDIATELY, OscError, decode, time_tag
 from backends.oscin.schemes import BadMessage, Reading, Scheme, UserEvent
 from host import Joint
 
@@ -29,7 +29,7 @@ KEEPALIVE_S = 1.0  # how often bridges that need it (Synapse) are told to keep s
 class Sample:
     user: int
     joints: dict[str, Joint]
-    t: float  # Unix seconds: the sender's time tag or the arrival time
+    t: float  # seconds since the first message: by the sender's time tags, or by arrival times
     arrival: float  # time.monotonic() at arrival
 
 
@@ -63,6 +63,7 @@ class Receiver:
         self.bad: Counter[str] = Counter()
         self.last_arrival: float | None = None
         self._pending: dict[int, tuple[dict[str, Joint], float]] = {}  # loose messages per user
+        self._origin: int | None = None  # the time tag of the first message: time 0
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, name=f"issv-osc-in :{self.port}", daemon=True)
 
@@ -102,7 +103,7 @@ class Receiver:
         is_bundle = data.startswith(b"#bundle")
         for tag, address, args in messages:
             self.messages += 1
-            t = wall if tag == IMMEDIATELY else unix_seconds(tag)
+            t = self._seconds(time_tag(wall) if tag == IMMEDIATELY else tag)
             try:
                 events = self.scheme.read(address, args)
             except BadMessage as error:
@@ -120,6 +121,13 @@ class Receiver:
             self._complete(user)
             self.queue.append(Sample(user, joints, t, arrival))
         self.arrived.set()
+
+    def _seconds(self, tag: int) -> float:
+        """Seconds since the first message, subtracted as NTP integers: Unix seconds as floats
+        would keep only 0.2 microseconds, and the recogniser compares sample intervals exactly."""
+        if self._origin is None:
+            self._origin = tag
+        return (tag - self._origin) / 2**32
 
     def _loose(self, reading: Reading, t: float) -> None:
         """A joint sent on its own: a sample ends when one of its joints comes again."""

@@ -11,6 +11,7 @@ with both hands and the torso and head, so two performers' strokes never mix.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field, replace
 from typing import Callable, Mapping
 
@@ -53,6 +54,8 @@ class Users:
         self.make_recognizer = make_recognizer
         self.lost_timeout_s, self.mirrored, self.reach_mm = lost_timeout_s, mirrored, reach_mm
         self._users: dict[int, _User] = {}
+        #: seconds spent in the recognisers since the last `report()` (the bench reads it)
+        self.recognising = 0.0
 
     def __len__(self) -> int:
         """How many users are known (reported or about to be)."""
@@ -86,7 +89,10 @@ class Users:
         u.sample_t = t
         hands = [h for h in self._hands(u, HandState.TRACKING) if HANDS[h.side][0] in joints]
         body = {name: u.joints[name].position for name in ("torso", "head") if name in u.joints}
-        return [replace(g, user_id=user) for g in u.recognizer.update(t, hands, body, self.mirrored)]
+        start = time.perf_counter()
+        gestures = u.recognizer.update(t, hands, body, self.mirrored)
+        self.recognising += time.perf_counter() - start
+        return [replace(g, user_id=user) for g in gestures]
 
     def expire(self, now: float, t: float) -> list[Gesture]:
         """Users whose messages stopped become lost; returns what their recognisers still complete."""
