@@ -117,6 +117,7 @@ class OscInBackend(Backend):
         self._last_frame = 0.0
         self._ended = False
         self._started = time.monotonic()
+        self._rate_mark, self._rate = (self._started, 0), 0.0
         #: seconds each frame took to rebuild users and hands, and in the recognisers (the bench reads them)
         self.rebuild_s: list[float] = []
         self.recognise_s: list[float] = []
@@ -179,6 +180,17 @@ class OscInBackend(Backend):
         if last is None:
             return time.monotonic() - self._started > 10 * limit
         return time.monotonic() - last > limit
+
+    def input_label(self) -> str:
+        """What the HUD and the status line say: the scheme, the port, users and message rate."""
+        rx, now = getattr(self, "receiver", None), time.monotonic()
+        if rx is None:
+            return f"osc {self.options.scheme} (not listening yet)"
+        last_t, last_n = self._rate_mark
+        if now - last_t >= 1.0:
+            self._rate = (rx.messages - last_n) / (now - last_t)
+            self._rate_mark = (now, rx.messages)
+        return f"osc {self.options.scheme} udp:{self.port}, {len(self.users)} users, {self._rate:.0f} msg/s"
 
     def stop(self) -> None:
         super().stop()

@@ -35,7 +35,7 @@ def lines(m: Metrics) -> list[str]:
     sfps, rfps = m.live()
     lat = m.latency(recent=120)
     last = ", ".join(g.name for g in list(m.last_gestures)[-3:]) or "-"
-    return [f"backend {m.backend}",
+    return [f"backend {m.backend} <- {m.input_label}",
             f"sFPS {sfps:5.1f}  rFPS {rfps:5.1f}  eff {(sfps + rfps) / 2:5.1f}",
             f"latency p50 {lat['p50']:5.1f} ms  p99 {lat['p99']:5.1f} ms",
             f"gestures {last}"]
