@@ -13,7 +13,9 @@ Two parts, each through real UDP from another process:
    must equal `issv gestures --mirrored` on the same CSV: the same events (name, state, side) within
    a frame of each other; those not exact (time, confidence, position within 0.01 mm) are counted:
    the 32.32 time tags cannot carry the CSV's decimal times bit for bit and the recogniser compares
-   sample intervals exactly, so a timer ending right on a sample may end a frame later.
+   sample intervals exactly, so a timer ending right on a sample may end a frame later. Each stream
+   goes twice: as OSCeleton (32-bit normalised floats, what the bridge sends) and as 64-bit
+   millimetres through the custom scheme (what the transport alone changes).
    Skipped without ISSV_DATA.
 
 `python -m bench.osc_in [--seconds 10] [--streams 40] [--speed 20] [--json]`
@@ -105,13 +107,23 @@ def load(seconds: float) -> dict:
             "load_avg_1m": round(os.getloadavg()[0], 2)}
 
 
-def _stream_messages(path: Path) -> list[tuple[float, list[Message]]]:
+#: the parity run's wires: OSCeleton's 32-bit normalised floats, and millimetres as 64-bit doubles
+#: through the custom scheme (what the transport alone does to the gestures)
+DOUBLES = {"scheme": "custom", "messages": [{"address": "/skel/{user}/{joint}", "args": ["{x}", "{y}", "{z}"]}]}
+
+
+def _double_joint(name: str, user: int, x: float, y: float, z: float) -> Message:
+    return Message(f"/skel/{user}/{name}", (("d", x), ("d", y), ("d", z)))
+
+
+def _stream_messages(path: Path, wire: str) -> list[tuple[float, list[Message]]]:
     from host.commands.gestures import read_trajectories
     names = {"left": "l_hand", "right": "r_hand"}
+    joint = osceleton_joint if wire == "osceleton" else _double_joint
     out = []
     for frame in read_trajectories(path):
-        messages = [osceleton_joint(names[h.side.value], 1, *h.position) for h in frame.hands]
-        messages += [osceleton_joint(name, 1, *p) for name, p in frame.body.items()]
+        messages = [joint(names[h.side.value], 1, *h.position) for h in frame.hands]
+        messages += [joint(name, 1, *p) for name, p in frame.body.items()]
         out.append((frame.t, messages))
     return out
 
@@ -127,15 +139,16 @@ def _same(a: tuple, b: tuple, dt: float = 1e-6) -> bool:
             and all(abs(p - q) <= 0.01 for p, q in zip(a[5], b[5])))
 
 
-def parity_one(path: Path, speed: float) -> tuple[list, list]:
-    """(issv gestures --mirrored, osc-in) gestures of one stream."""
+def parity_one(path: Path, speed: float, wire: str = "osceleton") -> tuple[list, list]:
+    """(issv gestures --mirrored, osc-in) gestures of one stream sent on `wire` (osceleton, doubles)."""
     from host.commands.gestures import read_trajectories, recognizer_for
     recognizer = recognizer_for("openiss")
     frames = list(read_trajectories(path))
     t0 = frames[0].t
     expected = [g for f in frames for g in recognizer.update(f.t, f.hands, f.body, True)] + recognizer.finish()
-    stream = _stream_messages(path)
-    with _backend(end_after_idle_s=0.4, lost_timeout_s=30.0, mirrored=True) as backend:
+    stream = _stream_messages(path, wire)
+    options = DOUBLES if wire == "doubles" else {}
+    with _backend(end_after_idle_s=0.4, lost_timeout_s=30.0, mirrored=True, **options) as backend:
         import socket
         sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         sender = _Sender(sock, backend.port, stream, speed)
@@ -174,19 +187,21 @@ def parity(streams: int, speed: float) -> dict | None:
         return None
     paths = sorted(folder.glob("p*_g01_*.csv")) + sorted(folder.glob("p*_g03_*.csv"))
     paths = paths[::max(1, len(paths) // streams)][:streams]
-    rows, equal, gestures, late = [], 0, 0, 0
-    for path in paths:
-        expected, got = parity_one(path, speed)
-        same = len(expected) == len(got) and all(a[:3] == b[:3] and abs(a[3] - b[3]) <= 1 / 30 + 1e-3
-                                                 for a, b in zip(expected, got))
-        shifted = sum(not _same(a, b) for a, b in zip(expected, got)) if same else 0
-        equal += same
-        gestures += len(expected)
-        late += shifted
-        rows.append({"stream": path.name, "issv_gestures": len(expected), "osc_in": len(got), "equal": same,
-                     "one_frame_apart": shifted})
-    return {"streams": len(paths), "equal": equal, "gestures": gestures, "one_frame_apart": late, "speed": speed,
-            "rows": rows}
+    out = {"streams": len(paths), "speed": speed}
+    for wire in ("osceleton", "doubles"):
+        rows, equal, gestures, late = [], 0, 0, 0
+        for path in paths:
+            expected, got = parity_one(path, speed, wire)
+            same = len(expected) == len(got) and all(a[:3] == b[:3] and abs(a[3] - b[3]) <= 1 / 30 + 1e-3
+                                                     for a, b in zip(expected, got))
+            shifted = sum(not _same(a, b) for a, b in zip(expected, got)) if same else 0
+            equal += same
+            gestures += len(expected)
+            late += shifted
+            rows.append({"stream": path.name, "issv_gestures": len(expected), "osc_in": len(got), "equal": same,
+                         "not_exact": shifted})
+        out[wire] = {"equal": equal, "gestures": gestures, "not_exact": late, "rows": rows}
+    return out
 
 
 def main() -> None:
@@ -212,11 +227,13 @@ def main() -> None:
     if pa is None:
         rows.append(["parity: skipped (--streams 0, or ISSV_DATA not set to the shared data folder)", "", "", ""])
     else:
-        rows.append([f"parity with issv gestures --mirrored: {pa['equal']} of {pa['streams']} MSRC-12 streams "
-                     f"give the same gestures (sent at {pa['speed']:.0f}x with time tags); of {pa['gestures']} "
-                     f"events {pa['one_frame_apart']} come one frame apart", "", "", ""])
-        rows += [[f"  {r['stream']}: {r['issv_gestures']} vs {r['osc_in']}", "", "", ""]
-                 for r in pa["rows"] if not r["equal"]]
+        for wire, label in (("osceleton", "OSCeleton's 32-bit floats"), ("doubles", "custom scheme, 64-bit mm")):
+            w = pa[wire]
+            rows.append([f"parity with issv gestures --mirrored, {label}: {w['equal']} of {pa['streams']} MSRC-12 "
+                         f"streams give the same gestures (sent at {pa['speed']:.0f}x with time tags); of "
+                         f"{w['gestures']} events {w['not_exact']} not exact (a frame apart)", "", "", ""])
+            rows += [[f"  {r['stream']}: {r['issv_gestures']} vs {r['osc_in']} events", "", "", ""]
+                     for r in w["rows"] if not r["equal"]]
     report("osc-in", f, rows, ["", "p50", "p99", "max"], args.json)
 
 
