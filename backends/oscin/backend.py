@@ -32,26 +32,41 @@ class OscInOptions(BaseModel):
     """What a profile may set for `osc-in` (README.md, OSC in)."""
 
     model_config = ConfigDict(extra="forbid")
-    scheme: SchemeName = "osceleton"
-    port: int | None = Field(None, ge=0, lt=65536)  # default: the bridge's usual port; 0: any free port
-    host: str = "0.0.0.0"  # the address to listen on
-    lost_timeout_s: float = Field(1.0, gt=0)  # a user whose messages stop this long is LOST
-    fps: float = Field(30.0, gt=0, le=240)  # frames per second at most (and at least, while users are in view)
-    end_after_idle_s: float = Field(0.0, ge=0)  # > 0: the stream ends after this long without a message
-    # (ten times as long before the first one)
-    # (users still in view are LOST in its last frame, their strokes judged as at the end of a clip)
-    reach_mm: float = Field(350.0, gt=0)  # a hand farther out from the torso is `extended`
-    multiplier: tuple[float, float, float] = (1.0, 1.0, 1.0)  # osceleton: its -mx -my -mz, undone
-    offset: tuple[float, float, float] = (0.0, 0.0, 0.0)  # osceleton: its -ox -oy -oz, undone
-    kitchen_depth_mm: float = Field(2000.0, gt=0)  # osceleton -k sends no z: joints are placed this far
-    synapse_host: str = "127.0.0.1"  # synapse: where Synapse runs, to send it the keep-alives it needs
-    synapse_port: int = Field(12346, gt=0, lt=65536)  # synapse: where Synapse takes them
-    mediapipe_address: str = "/pose"  # mediapipe: the landmark list's address (or ADDRESS/<person>)
-    mediapipe_depth_mm: float = Field(2500.0, gt=0)  # mediapipe: how far from the camera the hips are
-    mirrored: bool | None = None  # whether +x is the performer's right; default: the scheme's
-    scale: float = 1.0  # custom: multiply positions by this to get millimetres (1000 for metres)
-    messages: list[InputTemplate] = []  # custom: the templates
-    gestures: GestureRules = Field(default_factory=GestureRules)
+    scheme: SchemeName = Field("osceleton", description="the bridge: osceleton (also its -k and -q formats), "
+                               "synapse, ni-mate (basic or OSCeleton-style), kinectv2 (KinectV2-OSC), mediapipe "
+                               "(flat pose landmark lists) or custom (the templates in messages)")
+    port: int | None = Field(None, ge=0, lt=65536, description="UDP port to listen on; default the bridge's own "
+                             "(OSCeleton 7110, Synapse and KinectV2-OSC 12345, NI mate 7000, others 9000); 0 any free one")
+    host: str = Field("0.0.0.0", description="the address to listen on (0.0.0.0: every interface)")
+    lost_timeout_s: float = Field(1.0, gt=0, description="a user whose messages stop this long is LOST")
+    fps: float = Field(30.0, gt=0, le=240, description="frames per second while users are in view (at most "
+                       "twice this when messages come faster)")
+    end_after_idle_s: float = Field(0.0, ge=0, description="> 0: the stream ends after this long without a "
+                                    "message (ten times as long before the first); users still in view are LOST in "
+                                    "its last frame, their strokes judged as at the end of a clip")
+    reach_mm: float = Field(350.0, gt=0, description="a hand farther than this from the torso (sideways, forwards "
+                            "or upwards) is extended; nearer, it rests")
+    multiplier: tuple[float, float, float] = Field((1.0, 1.0, 1.0), description="osceleton: the -mx -my -mz "
+                                                   "OSCeleton ran with, undone")
+    offset: tuple[float, float, float] = Field((0.0, 0.0, 0.0), description="osceleton: the -ox -oy -oz "
+                                               "OSCeleton ran with, undone")
+    kitchen_depth_mm: float = Field(2000.0, gt=0, description="osceleton -k (Animata) sends no z: joints are "
+                                    "placed this far away")
+    synapse_host: str = Field("127.0.0.1", description="synapse: where Synapse runs, to send it the keep-alive "
+                              "/<joint>_trackjointpos it needs every few seconds")
+    synapse_port: int = Field(12346, gt=0, lt=65536, description="synapse: the port Synapse takes them on")
+    mediapipe_address: str = Field("/pose", description="mediapipe: the landmark list's address (or "
+                                   "ADDRESS/<person>, counted from 0)")
+    mediapipe_depth_mm: float = Field(2500.0, gt=0, description="mediapipe: how far from the camera the hips are "
+                                      "(its world landmarks are hip-centred)")
+    mirrored: bool | None = Field(None, description="whether +x is the performer's right; default the scheme's "
+                                  "(false for mediapipe, true for the others)")
+    scale: float = Field(1.0, description="custom: multiply positions by this to get millimetres (1000 for metres)")
+    messages: list[InputTemplate] = Field([], description="custom: the templates, [[backend.messages]] with on "
+                                          "(joint, new_user, lost_user), address and args using {user} {joint} {x} {y} "
+                                          "{z} {confidence}")
+    gestures: GestureRules = Field(default_factory=GestureRules, description="gesture thresholds (mm, s), as for "
+                                   "openiss")
 
     @model_validator(mode="after")
     def _check(self):
