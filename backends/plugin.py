@@ -6,6 +6,7 @@ from backends.replay import ReplayBackend
 from backends.sdk.nite import NiteBackend
 from backends.sdk.nuitrack import NuitrackBackend
 from backends.truth import TruthBackend
+from backends.webcam.backend import MediaPipeBackend
 from host import hookimpl
 
 
@@ -19,6 +20,7 @@ def register_backends(register):
     register(ReplayBackend)
     register(NetworkBackend)
     register(OscInBackend)
+    register(MediaPipeBackend)  # needs the `webcam` extra; `issv list` says how to get it
 
 
 @hookimpl

@@ -139,8 +139,9 @@ def _same(a: tuple, b: tuple, dt: float = 1e-6) -> bool:
             and all(abs(p - q) <= 0.01 for p, q in zip(a[5], b[5])))
 
 
-def parity_one(path: Path, speed: float, wire: str = "osceleton") -> tuple[list, list]:
-    """(issv gestures --mirrored, osc-in) gestures of one stream sent on `wire` (osceleton, doubles)."""
+def parity_one(path: Path, speed: float, wire: str = "osceleton") -> tuple[list, list, int]:
+    """(issv gestures --mirrored, osc-in) gestures of one stream sent on `wire` (osceleton, doubles),
+    and how many of its datagrams never arrived."""
     from host.commands.gestures import read_trajectories, recognizer_for
     recognizer = recognizer_for("openiss")
     frames = list(read_trajectories(path))
@@ -148,7 +149,7 @@ def parity_one(path: Path, speed: float, wire: str = "osceleton") -> tuple[list,
     expected = [g for f in frames for g in recognizer.update(f.t, f.hands, f.body, True)] + recognizer.finish()
     stream = _stream_messages(path, wire)
     options = DOUBLES if wire == "doubles" else {}
-    with _backend(end_after_idle_s=0.4, lost_timeout_s=30.0, mirrored=True, **options) as backend:
+    with _backend(end_after_idle_s=2.0, lost_timeout_s=30.0, mirrored=True, **options) as backend:
         import socket
         sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         sender = _Sender(sock, backend.port, stream, speed)
@@ -156,7 +157,8 @@ def parity_one(path: Path, speed: float, wire: str = "osceleton") -> tuple[list,
         got = [g for f in _collect(backend) for g in f.gestures]
         sender.join()
         sock.close()
-    return [_key(g, t0) for g in expected], [_key(g, 0.0) for g in got]
+    lost = len(stream) - backend.receiver.datagrams
+    return [_key(g, t0) for g in expected], [_key(g, 0.0) for g in got], lost
 
 
 class _Sender:
@@ -189,9 +191,10 @@ def parity(streams: int, speed: float) -> dict | None:
     paths = paths[::max(1, len(paths) // streams)][:streams]
     out = {"streams": len(paths), "speed": speed}
     for wire in ("osceleton", "doubles"):
-        rows, equal, gestures, late = [], 0, 0, 0
+        rows, equal, gestures, late, lost = [], 0, 0, 0, 0
         for path in paths:
-            expected, got = parity_one(path, speed, wire)
+            expected, got, missing = parity_one(path, speed, wire)
+            lost += missing
             same = len(expected) == len(got) and all(a[:3] == b[:3] and abs(a[3] - b[3]) <= 1 / 30 + 1e-3
                                                      for a, b in zip(expected, got))
             shifted = sum(not _same(a, b) for a, b in zip(expected, got)) if same else 0
@@ -199,8 +202,8 @@ def parity(streams: int, speed: float) -> dict | None:
             gestures += len(expected)
             late += shifted
             rows.append({"stream": path.name, "issv_gestures": len(expected), "osc_in": len(got), "equal": same,
-                         "not_exact": shifted})
-        out[wire] = {"equal": equal, "gestures": gestures, "not_exact": late, "rows": rows}
+                         "not_exact": shifted, "datagrams_lost": missing})
+        out[wire] = {"equal": equal, "gestures": gestures, "not_exact": late, "datagrams_lost": lost, "rows": rows}
     return out
 
 
@@ -231,9 +234,10 @@ def main() -> None:
             w = pa[wire]
             rows.append([f"parity with issv gestures --mirrored, {label}: {w['equal']} of {pa['streams']} MSRC-12 "
                          f"streams give the same gestures (sent at {pa['speed']:.0f}x with time tags); of "
-                         f"{w['gestures']} events {w['not_exact']} not exact (a frame apart)", "", "", ""])
-            rows += [[f"  {r['stream']}: {r['issv_gestures']} vs {r['osc_in']} events", "", "", ""]
-                     for r in w["rows"] if not r["equal"]]
+                         f"{w['gestures']} events {w['not_exact']} not exact (a frame apart); datagrams lost "
+                         f"{w['datagrams_lost']}", "", "", ""])
+            rows += [[f"  {r['stream']}: {r['issv_gestures']} vs {r['osc_in']} events, {r['datagrams_lost']} "
+                      f"datagrams lost", "", "", ""] for r in w["rows"] if not r["equal"]]
     report("osc-in", f, rows, ["", "p50", "p99", "max"], args.json)
 
 

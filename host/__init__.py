@@ -3,6 +3,7 @@ from host.contracts import Backend, Effect, NoOptions, Plugin, PluginUnavailable
 from host.hookspecs import hookimpl
 from host.model import (
     CANONICAL_GESTURES,
+    ColourFrame,
     DepthFrame,
     Frame,
     Gesture,
@@ -24,7 +25,7 @@ from host.callbacks import SimpleOpenNIEffect
 __version__ = "0.1.0"
 
 __all__ = [
-    "Backend", "CANONICAL_GESTURES", "DepthFrame", "Effect", "Frame", "Gesture", "GestureState",
+    "Backend", "CANONICAL_GESTURES", "ColourFrame", "DepthFrame", "Effect", "Frame", "Gesture", "GestureState",
     "GestureType", "Hand", "HandState", "Intrinsics", "JOINTS", "Joint", "NoOptions", "Plugin", "PluginUnavailable",
     "SimpleOpenNIEffect", "Side", "Source", "Stage", "Truth", "TruthGesture", "User", "Vec3", "hookimpl", "__version__",
 ]

@@ -176,6 +176,37 @@ class DepthFrame:
         return self.intrinsics.depth_to_world(u, v, z)
 
 
+@dataclass(frozen=True, eq=False)
+class ColourFrame:
+    """One colour image from an RGB camera or a video: uint8 (H, W, 3), RGB order. Owns a
+    read-only copy of its array. `intrinsics` come from the camera's field of view; `mirrored`
+    says whether the image is flipped as a mirror (a selfie view). Times as DepthFrame's."""
+
+    rgb: np.ndarray
+    intrinsics: Intrinsics
+    frame_id: int = 0
+    timestamp: float = 0.0
+    capture_time: float = field(default_factory=time.time)
+    mirrored: bool = False
+
+    def __post_init__(self) -> None:
+        rgb = self.rgb
+        if rgb.dtype != np.uint8 or rgb.ndim != 3 or rgb.shape[2] != 3:
+            raise ValueError(f"ColourFrame.rgb must be a (H, W, 3) uint8 array, got {rgb.dtype} {rgb.shape}")
+        if rgb.flags.writeable or rgb.base is not None or not rgb.flags.c_contiguous:
+            rgb = np.ascontiguousarray(rgb).copy()
+            rgb.flags.writeable = False
+            object.__setattr__(self, "rgb", rgb)
+
+    @property
+    def width(self) -> int:
+        return int(self.rgb.shape[1])
+
+    @property
+    def height(self) -> int:
+        return int(self.rgb.shape[0])
+
+
 def _plain_numbers(event: "Hand | Gesture") -> None:
     """Backends may compute with numpy; events carry plain Python numbers so every consumer
     (JSON lines, OSC, recordings, the network) can serialise them."""

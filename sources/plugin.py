@@ -5,6 +5,7 @@ from sources.fakenect import FakenectSource
 from sources.oni import OniSource
 from sources.recording import RecordingSource
 from sources.synthetic import SyntheticSource
+from sources.webcam import WebcamSource
 
 
 @hookimpl
@@ -14,3 +15,4 @@ def register_sources(register):
     register(OniSource)
     register(RecordingSource)
     register(SyntheticSource)
+    register(WebcamSource)

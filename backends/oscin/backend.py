@@ -19,7 +19,7 @@ from backends.engine.rules import GestureRules
 from backends.oscin.receiver import Announcement, Receiver
 from backends.oscin.schemes import (CustomScheme, InputTemplate, KinectV2Scheme, MediaPipeScheme, NiMateScheme,
                                     OSCeletonScheme, Scheme, SynapseScheme)
-from backends.oscin.users import Users
+from backends.users import Users
 from host import Backend, Frame, Gesture, PluginUnavailable
 
 SchemeName = Literal["osceleton", "synapse", "ni-mate", "kinectv2", "mediapipe", "custom"]

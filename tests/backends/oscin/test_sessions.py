@@ -14,7 +14,7 @@ import pytest
 from backends.oscin.backend import OscInOptions
 from backends.oscin.replay import instants, read_qlist
 from backends.oscin.schemes import OSCeletonScheme, UserEvent
-from backends.oscin.users import Users
+from backends.users import Users
 from host import HandState, Joint
 from tests.backends.oscin.helpers import backend, collect, replay
 

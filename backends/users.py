@@ -1,4 +1,5 @@
-"""Users rebuilt from a bridge's readings: lifecycle, bodies, both hands, a recogniser each.
+"""Users rebuilt from skeletons (an OSC bridge's, MediaPipe's): lifecycle, bodies, both hands,
+a recogniser each. Shared by the backends that get whole skeletons rather than depth.
 
 A user is NEW in the first frame that reports it, TRACKING after, and LOST once: when the bridge
 says so (`/lost_user`) or when its messages stop for `lost_timeout_s`. A user the bridge announced
