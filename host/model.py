@@ -136,6 +136,15 @@ class Truth:
     body: dict[str, Vec3] = field(default_factory=dict)
 
 
+def _owned(array: np.ndarray) -> np.ndarray:
+    """The array itself if it is a read-only, contiguous array of its own, else such a copy: a
+    frame's pixels can then cross threads without locks."""
+    if array.flags.writeable or array.base is not None or not array.flags.c_contiguous:
+        array = np.ascontiguousarray(array).copy()
+        array.flags.writeable = False
+    return array
+
+
 @dataclass(frozen=True, eq=False)
 class DepthFrame:
     """One depth image: uint16 millimetres, 0 = no reading. Owns a read-only copy of its array.
@@ -156,10 +165,7 @@ class DepthFrame:
         data = self.data
         if data.dtype != np.uint16 or data.ndim != 2:
             raise ValueError(f"DepthFrame.data must be a 2-D uint16 array, got {data.dtype} {data.shape}")
-        if data.flags.writeable or data.base is not None or not data.flags.c_contiguous:
-            data = np.ascontiguousarray(data).copy()
-            data.flags.writeable = False
-            object.__setattr__(self, "data", data)
+        object.__setattr__(self, "data", _owned(data))
 
     @property
     def width(self) -> int:
@@ -193,10 +199,7 @@ class ColourFrame:
         rgb = self.rgb
         if rgb.dtype != np.uint8 or rgb.ndim != 3 or rgb.shape[2] != 3:
             raise ValueError(f"ColourFrame.rgb must be a (H, W, 3) uint8 array, got {rgb.dtype} {rgb.shape}")
-        if rgb.flags.writeable or rgb.base is not None or not rgb.flags.c_contiguous:
-            rgb = np.ascontiguousarray(rgb).copy()
-            rgb.flags.writeable = False
-            object.__setattr__(self, "rgb", rgb)
+        object.__setattr__(self, "rgb", _owned(rgb))
 
     @property
     def width(self) -> int:
