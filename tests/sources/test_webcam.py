@@ -29,8 +29,7 @@ def test_a_video_gives_rgb_colour_frames_at_the_asked_size_with_its_own_clock(tm
     first = frames[0]
     assert first.rgb.shape == (120, 160, 3) and not first.rgb.flags.writeable and not first.mirrored
     assert first.rgb[60, 20, 2] > 200 and first.rgb[60, 20, 0] < 50  # blue, in RGB order
-    assert [f.timestamp for f in frames[:3]] == pytest.approx([0.0, 1 / 24, 2 / 24], abs=1e-3) or \
-        [f.timestamp for f in frames[:3]] == pytest.approx([1 / 24, 2 / 24, 3 / 24], abs=1e-3)
+    assert [f.timestamp for f in frames] == pytest.approx([i / 24 for i in range(12)], abs=1e-3)
     assert first.intrinsics.fx == pytest.approx(80 / np.tan(np.radians(30)))
 
 
