@@ -121,7 +121,7 @@ class MediaPipeBackend(Backend):
         if self.users is None:  # the recogniser needs to know which way the image looks
             self.users = Users(lambda: self.recognizer(self.options), self.options.lost_timeout_s, colour.mirrored,
                                self.options.reach_mm)
-        now = time.monotonic()
+        now = colour.timestamp  # timeouts in the source's time: a video read faster than real time too
         result = self.pose.process(colour.rgb)
         gestures = []
         if result.pose_world_landmarks is not None:
