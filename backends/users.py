@@ -16,7 +16,9 @@ import time
 from dataclasses import dataclass, field, replace
 from typing import Callable, Mapping
 
-from host import Gesture, Hand, HandState, Joint, Side, User, Vec3
+import numpy as np
+
+from host import DepthFrame, Gesture, Hand, HandState, Intrinsics, Joint, Side, User, Vec3
 
 CALIBRATING_S = 30.0
 HANDS = {Side.LEFT: ("left_hand", 1), Side.RIGHT: ("right_hand", 2)}
@@ -148,3 +150,20 @@ class Users:
     def _mass(u: _User) -> Vec3 | None:
         points = [u.joints[n].position for n in MASS if n in u.joints]
         return tuple(sum(c) / len(points) for c in zip(*points)) if points else None
+
+
+class BlankDepth:
+    """A depth image of no readings (0) with a camera's geometry, for backends that have no depth:
+    effects place hands on the stage through a frame's depth intrinsics, so they work unchanged.
+    One read-only array is shared by every frame."""
+
+    def __init__(self) -> None:
+        self._zeros: np.ndarray | None = None
+
+    def __call__(self, size: tuple[int, int], intrinsics: Intrinsics, frame_id: int, t: float,
+                 capture_time: float, mirrored: bool) -> DepthFrame:
+        width, height = size
+        if self._zeros is None or self._zeros.shape != (height, width):
+            self._zeros = np.zeros((height, width), np.uint16)
+            self._zeros.flags.writeable = False
+        return DepthFrame(self._zeros, intrinsics, frame_id, t, capture_time, mirrored)

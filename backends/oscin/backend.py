@@ -3,8 +3,9 @@
 OSCeleton, Synapse, NI mate, KinectV2-OSC, MediaPipe-to-OSC bridges or the artist's own addresses
 (schemes.py) arrive over UDP (receiver.py); each frame the backend drains the complete samples,
 runs each user's recogniser on them (users.py) and reports users, both hands of each and the
-gestures. Frames carry no depth image: the source's clock is `Frame.time`, seconds since the
-first message.
+gestures. Frames carry a depth image of no readings with a Kinect v1's geometry (640x480, 57 x 43
+degrees, OSCeleton's sensor), so effects place hands on the stage as on `openiss`; the clock is
+seconds since the first message.
 """
 from __future__ import annotations
 
@@ -19,7 +20,8 @@ from backends.engine.rules import GestureRules
 from backends.oscin.receiver import Announcement, Receiver
 from backends.oscin.schemes import (CustomScheme, InputTemplate, KinectV2Scheme, MediaPipeScheme, NiMateScheme,
                                     OSCeletonScheme, Scheme, SynapseScheme)
-from backends.users import Users
+from backends.engine.geometry import KINECT_V1
+from backends.users import BlankDepth, Users
 from host import Backend, Frame, Gesture, PluginUnavailable
 
 SchemeName = Literal["osceleton", "synapse", "ni-mate", "kinectv2", "mediapipe", "custom"]
@@ -129,6 +131,7 @@ class OscInBackend(Backend):
         self.receiver.start()
         self.port = self.receiver.port
         self._seq = 0
+        self.blank = BlankDepth()
         self._last_frame = 0.0
         self._ended = False
         self._started = time.monotonic()
@@ -178,7 +181,8 @@ class OscInBackend(Backend):
         self._seq += 1
         self._last_frame = time.monotonic()
         capture = time.time() - (now - rx.last_arrival) if rx.last_arrival is not None else time.time()
-        return Frame(self._seq, capture, None, hands if self.tracking_hands else (),
+        depth = self.blank(*KINECT_V1, self._seq, t, capture, self.mirrored)
+        return Frame(self._seq, capture, depth, hands if self.tracking_hands else (),
                      tuple(gestures) if self.detecting_gestures else (), self.name, users=users, time=t)
 
     def _now_t(self) -> float:

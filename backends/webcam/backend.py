@@ -21,7 +21,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.recognizer import GestureRecognizer
 from backends.engine.rules import GestureRules
-from backends.users import Users
+from backends.users import BlankDepth, Users
 from host import Backend, ColourFrame, DepthFrame, Frame, Joint, Vec3
 
 MEDIAPIPE_VERSION = "0.10.21"
@@ -109,7 +109,7 @@ class MediaPipeBackend(Backend):
         self.segmenter = mp.solutions.selfie_segmentation.SelfieSegmentation(model_selection=1) if o.user_mask else None
         self.users: Users | None = None
         self._seq = 0
-        self._blank: np.ndarray | None = None
+        self.blank = BlankDepth()
         #: seconds from a frame read to its Frame (the bench reads them)
         self.frame_s: list[float] = []
 
@@ -167,13 +167,9 @@ class MediaPipeBackend(Backend):
         return out
 
     def _depth(self, colour: ColourFrame) -> DepthFrame:
-        """No depth here: an image of no readings (0) with the camera's geometry, so effects that
-        place things on the stage by the depth image's intrinsics work unchanged."""
-        if self._blank is None or self._blank.shape != (colour.height, colour.width):
-            self._blank = np.zeros((colour.height, colour.width), np.uint16)
-            self._blank.flags.writeable = False
-        return DepthFrame(self._blank, colour.intrinsics, colour.frame_id, colour.timestamp, colour.capture_time,
-                          colour.mirrored)
+        """No depth here: the camera's geometry, no readings (effects place things by it)."""
+        return self.blank((colour.width, colour.height), colour.intrinsics, colour.frame_id, colour.timestamp,
+                          colour.capture_time, colour.mirrored)
 
     def _mask(self, colour: ColourFrame) -> np.ndarray | None:
         if self.segmenter is None:  # asked after the show stopped

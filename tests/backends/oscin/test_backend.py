@@ -47,7 +47,8 @@ def test_the_osc_effects_osceleton_output_comes_back_as_a_user_in_mm():
             assert h.position == pytest.approx(nearest, abs=0.01)  # float32 on the wire: well under a mm
             assert h.user_id == 1 and h.extended is True  # no torso sent: every hand counts as out
             seen += 1
-    assert seen >= 2 * 25  # newest wins: a frame or two may merge on a loaded machine
+    assert seen >= 2 * 20  # a loaded machine may fold two bridge frames into one of ours
+    assert frames[0].depth.width == 640 and not frames[0].depth.data.any()  # geometry for effects, no readings
     assert frames[-1].users[0].state is HandState.LOST and frames[-1].hands[0].state is HandState.LOST
 
 
@@ -66,7 +67,7 @@ def test_two_users_one_stops_and_is_lost_after_the_timeout(tmp_path):
     assert _states(got, 1) == ["new", "tracking", "lost"] and _states(got, 2) == ["new", "tracking", "lost"]
     lost_2 = next(f.time for f in got for u in f.users if u.id == 2 and u.state is HandState.LOST)
     lost_1 = next(f.time for f in got for u in f.users if u.id == 1 and u.state is HandState.LOST)
-    assert 36 / 30 + 0.3 < lost_2 < 36 / 30 + 0.9  # its last message, then the 0.4 s timeout
+    assert 36 / 30 + 0.3 < lost_2 < 36 / 30 + 1.5  # its last message, then the 0.4 s timeout
     assert lost_1 > lost_2 + 0.2
     assert any(u.id == 1 and u.state is HandState.TRACKING for f in got if f.time > lost_2 for u in f.users)
     swipes = sorted((g.user_id, g.hand_id, g.side) for f in got for g in f.gestures
