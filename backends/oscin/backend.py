@@ -209,7 +209,7 @@ class OscInBackend(Backend):
         if now - last_t >= 1.0:
             self._rate = (rx.messages - last_n) / (now - last_t)
             self._rate_mark = (now, rx.messages)
-        return f"osc {self.options.scheme} udp:{self.port}, {len(self.users)} users, {self._rate:.0f} msg/s"
+        return f"osc {self.options.scheme} :{self.port}, {len(self.users)} users, {self._rate:.0f} msg/s"
 
     def stop(self) -> None:
         super().stop()
