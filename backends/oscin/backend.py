@@ -38,7 +38,8 @@ class OscInOptions(BaseModel):
                                "synapse, ni-mate (basic or OSCeleton-style), kinectv2 (KinectV2-OSC), mediapipe "
                                "(flat pose landmark lists) or custom (the templates in messages)")
     port: int | None = Field(None, ge=0, lt=65536, description="UDP port to listen on; default the bridge's own "
-                             "(OSCeleton 7110, Synapse and KinectV2-OSC 12345, NI mate 7000, others 9000); 0 any free one")
+                             "(OSCeleton 7110, Synapse and KinectV2-OSC 12345, NI mate 7000, others 9000); "
+                             "0 any free one")
     host: str = Field("0.0.0.0", description="the address to listen on (0.0.0.0: every interface)")
     lost_timeout_s: float = Field(1.0, gt=0, description="a user whose messages stop this long is LOST")
     fps: float = Field(30.0, gt=0, le=240, description="frames per second while users are in view (at most "

@@ -38,7 +38,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--speed", type=float, default=1.0, help="playback speed (2: twice as fast; default 1)")
     p.add_argument("--no-bundle", action="store_true", help="send each message alone instead of one bundle per instant")
     p.add_argument("--time-tags", action="store_true",
-                   help="stamp each bundle with its time in the session (osc-in then keeps the session's timing at any --speed)")
+                   help="stamp each bundle with its time in the session "
+                        "(osc-in then keeps the session's timing at any --speed)")
 
 
 def _typed(address: str, words: list[str]) -> tuple[tuple[str, object], ...]:
@@ -89,7 +90,8 @@ def read_qlist(path: Path) -> list[Line]:
             raise UserError(f"{path}:{line_no}: {words[2]} expects {OSCELETON_TYPES[words[2]]} arguments, "
                             f"got {' '.join(words[3:])!r}") from None
     if not lines:
-        raise UserError(f"{path}: no messages (expected Pd qlist lines such as '33 osceleton /joint head 3 0.5 0.3 1.2;')")
+        raise UserError(f"{path}: no messages (expected Pd qlist lines such as "
+                        f"'33 osceleton /joint head 3 0.5 0.3 1.2;')")
     return lines
 
 

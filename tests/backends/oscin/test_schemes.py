@@ -79,7 +79,8 @@ def test_synapse_reads_world_positions_and_asks_for_them():
 def test_ni_mate_basic_and_osceleton_style_in_metres():
     scheme = NiMateScheme()
     assert scheme.read("/Left_Hand", [0.1, 0.2, 1.5]) == [Reading(1, "left_hand", (100.0, 200.0, 1500.0))]
-    assert scheme.read("/joint", ["Right_Elbow", 2, 0.3, 0.4, 2.0]) == [Reading(2, "right_elbow", (300.0, 400.0, 2000.0))]
+    assert scheme.read("/joint", ["Right_Elbow", 2, 0.3, 0.4, 2.0]) == [
+        Reading(2, "right_elbow", (300.0, 400.0, 2000.0))]
     with pytest.raises(BadMessage, match="unknown NI mate joint"):
         scheme.read("/Left_Tail", [0.0, 0.0, 0.0])
 
@@ -100,7 +101,8 @@ def test_mediapipe_flat_landmark_list():
     readings = {r.joint: r for r in MediaPipeScheme(depth_mm=2000.0).read("/pose/1", values)}
     assert readings["head"].user == 2  # bridges count people from 0
     assert readings["head"].position == pytest.approx((0.0, 500.0, 2050.0))  # y up, placed 2 m away
-    assert readings["left_hand"].position[0] == pytest.approx(190.0) and readings["left_hand"].confidence == pytest.approx(0.9)
+    assert readings["left_hand"].position[0] == pytest.approx(190.0)
+    assert readings["left_hand"].confidence == pytest.approx(0.9)
     assert readings["torso"].position == pytest.approx((175.0, -100.0, 2050.0))  # shoulders and hips
     with pytest.raises(BadMessage, match="33 x 3 or 33 x 4"):
         MediaPipeScheme().read("/pose", [0.0] * 10)

@@ -39,7 +39,10 @@ def _in_process(path: Path) -> list:
         for line in group:
             for event in scheme.read(line.address, [v for _, v in line.args]):
                 if isinstance(event, UserEvent):
-                    users.announce(event.user, 0.0) if event.kind == "new" else gestures.extend(users.leave(event.user, t))
+                    if event.kind == "new":
+                        users.announce(event.user, 0.0)
+                    else:
+                        gestures += users.leave(event.user, t)
                 else:
                     samples[event.user][event.joint] = Joint(event.position, event.confidence)
         for user, joints in samples.items():
@@ -76,7 +79,8 @@ def test_real_session_users_bodies_in_mm_and_gestures(name, users):
     for user, states in life.items():
         assert [s for s, _ in states] == ["new", "tracking", "lost"]  # each /lost_user once, at its time
     if name == "one-user.txt":
-        assert life[3][0][1] == pytest.approx(0.0) and life[3][2][1] == pytest.approx(50.4 - 1.0, abs=0.05)  # from /new_user at 1.0 s
+        # times from the first message, /new_user at the session's 1.0 s
+        assert life[3][0][1] == pytest.approx(0.0) and life[3][2][1] == pytest.approx(50.4 - 1.0, abs=0.05)
     else:
         assert life[1][2][1] < life[2][2][1]  # user 1 leaves first
     bodies = [u for f in frames for u in f.users if u.state is HandState.TRACKING and len(u.joints) >= 13]
