@@ -22,7 +22,8 @@ from backends.oscin.schemes import (CustomScheme, InputTemplate, KinectV2Scheme,
                                     OSCeletonScheme, Scheme, SynapseScheme)
 from backends.engine.geometry import KINECT_V1
 from backends.users import BlankDepth, Users
-from host import Backend, Frame, Gesture, PluginUnavailable
+from host import Backend, Frame, Gesture
+from host.errors import UserError
 
 SchemeName = Literal["osceleton", "synapse", "ni-mate", "kinectv2", "mediapipe", "custom"]
 #: where each bridge sends by default (OSCeleton 7110, Synapse 12345, NI mate 7000, KinectV2-OSC 12345)
@@ -128,7 +129,7 @@ class OscInBackend(Backend):
         try:
             self.receiver = Receiver(self.scheme, o.host, port, self.warn, keepalive)
         except OSError as error:
-            raise PluginUnavailable(str(error)) from None
+            raise UserError(f"backend 'osc-in': {error}") from None
         self.receiver.start()
         self.port = self.receiver.port
         self._seq = 0

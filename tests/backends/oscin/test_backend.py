@@ -203,3 +203,12 @@ def test_osc_replay_keeps_the_timing_and_names_bad_lines(tmp_path):
     proc = replay(session, 9)
     assert proc.wait(10) == 1
     assert f"{session}:2: expected '<ms delta>" in proc.stderr.read()
+
+
+def test_a_port_in_use_is_one_clear_error():
+    from host.errors import UserError
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as taken:
+        taken.bind(("0.0.0.0", 0))
+        port = taken.getsockname()[1]
+        with pytest.raises(UserError, match=f"backend 'osc-in': cannot listen on udp 0.0.0.0:{port}"):
+            backend(port=port).init()
