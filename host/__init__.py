@@ -3,6 +3,7 @@ from host.contracts import Backend, DeviceInfo, Effect, NoOptions, Plugin, Plugi
 from host.hookspecs import hookimpl
 from host.model import (
     CANONICAL_GESTURES,
+    ColourFrame,
     DepthFrame,
     Frame,
     Gesture,
@@ -11,9 +12,12 @@ from host.model import (
     Hand,
     HandState,
     Intrinsics,
+    JOINTS,
+    Joint,
     Side,
     Truth,
     TruthGesture,
+    User,
     Vec3,
 )
 from host.callbacks import SimpleOpenNIEffect
@@ -21,7 +25,8 @@ from host.callbacks import SimpleOpenNIEffect
 __version__ = "0.1.0"
 
 __all__ = [
-    "Backend", "CANONICAL_GESTURES", "DepthFrame", "DeviceInfo", "Effect", "Frame", "Gesture", "GestureState",
-    "GestureType", "Hand", "HandState", "Intrinsics", "NoOptions", "Plugin", "PluginUnavailable",
-    "SimpleOpenNIEffect", "Side", "Source", "Stage", "Truth", "TruthGesture", "Vec3", "hookimpl", "__version__",
+    "Backend", "CANONICAL_GESTURES", "ColourFrame", "DepthFrame", "DeviceInfo", "Effect", "Frame", "Gesture",
+    "GestureState", "GestureType", "Hand", "HandState", "Intrinsics", "JOINTS", "Joint", "NoOptions", "Plugin",
+    "PluginUnavailable", "SimpleOpenNIEffect", "Side", "Source", "Stage", "Truth", "TruthGesture", "User", "Vec3",
+    "hookimpl", "__version__",
 ]

@@ -60,6 +60,8 @@ class Source(Plugin):
 
     fps: float = 30.0
     live: ClassVar[bool] = False
+    #: what `read()` gives: "depth" (DepthFrame, millimetres) or "colour" (an RGB camera's frames)
+    frames: ClassVar[str] = "depth"
     intrinsics: Intrinsics
 
     @classmethod
@@ -91,6 +93,9 @@ class Backend(Plugin):
     """
 
     needs_source: ClassVar[bool] = True
+    #: the frames it tracks, as a Source's `frames` says ("depth" or "colour"); a profile pairing
+    #: it with a source of the other kind is refused. Unused when `needs_source` is False.
+    takes: ClassVar[str] = "depth"
 
     def __init__(self, source: Source | None = None, options: BaseModel | None = None) -> None:
         super().__init__(options)

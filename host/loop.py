@@ -20,7 +20,7 @@ import pluggy
 
 from host.contracts import Backend, Effect, Source, Stage
 from host.errors import UserError
-from host.metrics import Metrics
+from host.metrics import Metrics, input_of
 from host.model import DepthFrame, Frame, Gesture
 
 
@@ -120,7 +120,8 @@ class Show:
         self.limits = limits
         self.renderer = renderer
         self.status = status
-        self.metrics = Metrics(backend.name, getattr(backend.source, "fps", 0.0) if backend.source else 0.0)
+        self.metrics = Metrics(backend.name, getattr(backend.source, "fps", 0.0) if backend.source else 0.0,
+                               input=input_of(backend))
         stage.metrics = self.metrics
         self.latest = Latest()
         self.gestures = GestureQueue()

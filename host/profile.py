@@ -162,6 +162,14 @@ def parse(text: str, file: str, base_dir: Path, registry: Registry | None = None
     source = None
     if backend is None or backend.cls.needs_source:
         source = _resolve(file, registry, "sources", model.source, ("source",), context, problems, warnings)
+    if backend is not None and source is not None and source.cls.frames != backend.cls.takes:
+        problems.append(f"{file}: [backend] {backend.ref.name!r} tracks {backend.cls.takes} frames, but [source] "
+                        f"{source.ref.name!r} gives {source.cls.frames} frames: pick a source with "
+                        f"{backend.cls.takes} frames or a backend that takes {source.cls.frames} ones "
+                        f"(`issv list` says which is which)")
+    elif backend is not None and not backend.cls.needs_source and "source" in raw:
+        warnings.append(f"{file}: [source] {model.source.name!r} is not used: backend {backend.ref.name!r} "
+                        f"makes its own frames (it takes no source)")
     effects = []
     for i, ref in enumerate(model.effects):
         if ref.enabled:

@@ -17,7 +17,7 @@ def line(m: Metrics) -> str:
     sfps, rfps = m.live()
     lat = m.latency(recent=120)
     last = ", ".join(g.name for g in m.last_gestures) or "-"
-    return (f"[bold]{m.backend}[/]  sFPS {sfps:5.1f}  rFPS {rfps:5.1f}  eff {(sfps + rfps) / 2:5.1f}  "
+    return (f"[bold]{m.backend}[/] <- {m.input_label}  sFPS {sfps:5.1f}  rFPS {rfps:5.1f}  eff {(sfps + rfps) / 2:5.1f}  "
             f"latency p50 {lat['p50']:5.1f} ms p99 {lat['p99']:5.1f} ms  dropped {m.dropped}  "
             f"gestures {m.gestures} (last: {last})  {m.source_line()}")
 

@@ -8,6 +8,7 @@ from sources.oni import OniSource
 from sources.realsense import RealSenseSource
 from sources.recording import RecordingSource
 from sources.synthetic import SyntheticSource
+from sources.webcam import WebcamSource
 
 
 @hookimpl
@@ -20,3 +21,4 @@ def register_sources(register):
     register(RealSenseSource)
     register(RecordingSource)
     register(SyntheticSource)
+    register(WebcamSource)

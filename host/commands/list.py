@@ -59,10 +59,12 @@ def main(args: argparse.Namespace) -> int:
     console = Console()
     for kind, items in data.items():
         table = Table(title=kind, title_justify="left")
-        for column in ("name", "available", "plugin", "how to fix"):
+        framed = kind in ("backends", "sources")
+        for column in ("name", "available", "plugin", *(["frames"] if framed else []), "how to fix"):
             table.add_column(column)
         for item in items:
-            table.add_row(item["name"], "yes" if item["available"] else "[red]no[/]", item["plugin"],
+            frames = [item.get("frames") or "own"] if framed else []  # own: the backend makes its frames
+            table.add_row(item["name"], "yes" if item["available"] else "[red]no[/]", item["plugin"], *frames,
                           item["reason"] or "")
         console.print(table)
     console.print("[italic]devices[/]")

@@ -1,4 +1,5 @@
-"""The operator's overlay: backend, sFPS, rFPS, effective FPS, latency, the last gestures, the source.
+"""The operator's overlay: backend, its input and rate, sFPS, rFPS, effective FPS, latency, the last gestures,
+the source's own figures.
 
 Text is drawn with OpenCV into a small RGBA image and uploaded at most 4 times a second, so the
 HUD costs one small blended quad per frame.
@@ -15,7 +16,7 @@ from host.metrics import Metrics
 
 FONT = cv2.FONT_HERSHEY_SIMPLEX
 REFRESH_S = 0.25
-ROWS = 5  # the lines below
+ROWS = 6  # the lines below
 VERTEX = """
 #version 330
 in vec2 in_pos;
@@ -36,7 +37,7 @@ def lines(m: Metrics) -> list[str]:
     sfps, rfps = m.live()
     lat = m.latency(recent=120)
     last = ", ".join(g.name for g in list(m.last_gestures)[-3:]) or "-"
-    return [f"backend {m.backend}",
+    return [f"backend {m.backend}", f"input {m.input_label}",
             f"sFPS {sfps:5.1f}  rFPS {rfps:5.1f}  eff {(sfps + rfps) / 2:5.1f}",
             f"latency p50 {lat['p50']:5.1f} ms  p99 {lat['p99']:5.1f} ms",
             f"gestures {last}",
@@ -50,7 +51,7 @@ class Hud:
         self.ctx = ctx
         self.scale = max(0.4, size[1] / 1080)
         self.line_h = int(34 * self.scale)
-        self.panel = (int(560 * self.scale), self.line_h * ROWS + int(14 * self.scale))
+        self.panel = (int(640 * self.scale), self.line_h * ROWS + int(14 * self.scale))
         pw, ph = self.panel
         self.texture = ctx.texture(self.panel, 4)
         x0, y1 = -1.0 + 2 * 8 / size[0], 1.0 - 2 * 8 / size[1]

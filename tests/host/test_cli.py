@@ -23,8 +23,11 @@ def test_list_json_shows_the_builtins_with_availability():
     for kind, items in data.items():
         for item in items:
             extra = {"devices"} if kind == "sources" and "devices" in item else set()  # sources opening cameras
-            assert set(item) == {"name", "available", "reason", "plugin"} | extra
+            framed = {"frames"} if kind != "effects" else set()  # depth or colour frames (None: its own)
+            assert set(item) == {"name", "available", "reason", "plugin"} | extra | framed
             assert (item["reason"] is None) == item["available"]
+    frames = {i["name"]: i["frames"] for kind in ("backends", "sources") for i in data[kind]}
+    assert frames["openiss"] == frames["synthetic"] == "depth" and frames["osc-in"] is None
     names = {kind: {i["name"] for i in items} for kind, items in data.items()}
     assert {"truth"} <= names["backends"] and {"clip", "synthetic"} <= names["sources"]
     assert "console" in names["effects"]
