@@ -18,3 +18,9 @@ def register_effects(register):
     for effect in (DepthView, HandTrails, StarTrail, GestureBurst, Silhouette, Isf):
         register(effect)
     register(DigiEVISS)
+
+
+@hookimpl
+def register_commands(register):
+    from effects.isf import command
+    register(command)

@@ -38,6 +38,7 @@ class Renderer:
         self._start: float | None = None
         self._last = 0.0
         self._planned: tuple = ()
+        self._groups: dict[int, tuple[int, int]] = {}  # profile index -> the layer group it is drawn in
 
     @classmethod
     def create(cls, output: Any, stage: Any) -> "Renderer":
@@ -64,19 +65,16 @@ class Renderer:
         self.textures.frame = frame
         drawing = tuple(s.effect for s in show.effects if s.effect.renders)
         if drawing != self._planned:  # the first frame, or a live reload changed the stack
-            self._plan(drawing)
+            self._plan(drawing, show.effects)
         stage = self.keystone.stage if self.keystone else self.surface.fbo
         self.compositor.begin(stage, frame, now, dt)
-        for slot in show.effects:
-            if not (slot.enabled and slot.effect.renders):
-                continue
-            target = self.compositor.before(slot.blend, slot.opacity)
-            try:
-                slot.effect.render(target)
-            except Exception as error:
-                show.disable(slot, "render", error)
-                continue
-            self.compositor.after(slot.blend, slot.opacity)
+        for index, slot in enumerate(show.effects):
+            group = self._groups.get(index)
+            if group is not None and group[0] == index:
+                self.compositor.open_group(*group)
+            self._draw(show, slot)
+            if group is not None and group[1] == index:
+                self.compositor.close_group()
         if self.keystone is not None:
             self.keystone.draw(self.surface.fbo)
         if self.hud is not None:
@@ -86,9 +84,23 @@ class Renderer:
             self.video.write(self.surface.fbo)
         self.frame_ms.append((time.perf_counter() - t0) * 1000.0)
 
-    def _plan(self, drawing: tuple) -> None:
-        """Keystone in the effects' own matrix when they all draw through it, else a warp pass."""
+    def _draw(self, show: Any, slot: Any) -> None:
+        if not (slot.enabled and slot.effect.renders):
+            return
+        target = self.compositor.before(slot.blend, slot.opacity)
+        try:
+            slot.effect.render(target)
+        except Exception as error:
+            show.disable(slot, "render", error)
+            return
+        self.compositor.after(slot.blend, slot.opacity)
+
+    def _plan(self, drawing: tuple, effects: list) -> None:
+        """Layer groups other effects read (`captures`: (first, last) profile indices) are drawn
+        apart; keystone in the effects' own matrix when they all draw through it, else a warp pass."""
         self._planned = drawing
+        self._groups = {i: group for effect in drawing for group in getattr(effect, "captures", ())
+                        for i in range(group[0], group[1] + 1) if 0 <= i < len(effects)}
         if not self.corners:
             return
         if all(getattr(effect, "keystone_aware", False) for effect in drawing):
