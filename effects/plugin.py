@@ -1,4 +1,5 @@
 """Registers the built-in effects, exactly as a third-party plugin would."""
+from effects.audio import Audio
 from effects.console import ConsoleEffect
 from effects.depth_view import DepthView
 from effects.digieviss import DigiEVISS
@@ -14,6 +15,7 @@ from host import hookimpl
 @hookimpl
 def register_effects(register):
     register(ConsoleEffect)
+    register(Audio)
     register(OscEffect)
     for effect in (DepthView, HandTrails, StarTrail, GestureBurst, Silhouette, Isf):
         register(effect)

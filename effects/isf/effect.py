@@ -3,7 +3,8 @@ inputs bound to hands, gestures, time, sound, the depth image or the show drawn 
 
 Bindings (`bind = { input = "source" }` in the profile), by input type:
 - point2D: `hand.left`, `hand.right`, `hand.1`, `hand.2` (tracked hands by id), `gesture` (where
-  the last gesture completed); ISF pixels, origin bottom-left. Unseen: off-stage (-1e4, -1e4).
+  the last gesture completed); ISF pixels, origin bottom-left (unseen: off-stage, -1e4), or, for
+  a point with MIN/MAX, a point in that range (e.g. 0..1; unseen: it stays where it was).
 - float/long: `hands` (how many are tracked), `gesture.age` / `gesture.NAME.age` (seconds since
   the last (NAME) gesture completed; 1e4 before any), `hand.left.x` ... `hand.2.y` (where the hand
   is across the stage, 0..1 from the left/bottom, mapped onto the input's MIN..MAX), `time.N`
@@ -40,10 +41,14 @@ DEFAULT_IMAGE = {"inputImage": "below", "startImage": "below"}
 TOGGLE_SECONDS = 1.0
 
 
+def shipped() -> list[str]:
+    """The shaders issv ships, by name (`vidvox/...`: from the Vidvox collection, MIT licence)."""
+    return sorted(str(p.relative_to(SHADERS).with_suffix("")) for p in SHADERS.rglob("*.fs"))
+
+
 class IsfOptions(BaseModel):
     model_config = ConfigDict(extra="forbid")
-    shader: str | None = Field(None, description="a shipped shader: " + ", ".join(
-        sorted(p.stem for p in SHADERS.glob("*.fs"))))
+    shader: str | None = Field(None, description="a shipped shader: " + ", ".join(shipped()))
     file: ProfilePath | None = Field(None, description="an ISF .fs file of your own")
     bind: dict[str, str] = Field(default_factory=dict, description="ISF input name -> hands/gestures/depth/below")
     values: dict[str, float | bool | list[float]] = Field(default_factory=dict, description="fixed input values")
@@ -55,7 +60,7 @@ class IsfOptions(BaseModel):
         if (self.shader is None) == (self.file is None):
             raise ValueError("give exactly one of `shader` (a shipped one) or `file` (an ISF .fs path)")
         if self.shader is not None and not (SHADERS / f"{self.shader}.fs").is_file():
-            known = ", ".join(sorted(p.stem for p in SHADERS.glob("*.fs")))
+            known = ", ".join(shipped())
             raise ValueError(f"no shipped ISF shader {self.shader!r}; expected one of {known}")
         try:  # the header and the bindings are checked with the profile (`issv check`)
             check_bindings(IsfShader(self.path), self.bind, self.values)
@@ -84,7 +89,7 @@ class Isf(Effect):
         self.captures = tuple(layer_range(s) for s in self.sources.values() if LAYERS.match(s))
         ctx = stage.ctx
         self.runner = IsfRenderer(ctx, self.shader)
-        self.sound = SoundTextures(ctx, stage.extra.get("audio"))
+        self.sound = SoundTextures(ctx, lambda: stage.extra.get("audio"))
         self.offscreen = None
         if self.options.scale < 1:
             w, h = stage.size
@@ -125,6 +130,12 @@ class Isf(Effect):
         w, h = self.stage.size
         if kind == "point2D":
             where = self.last.get("gesture", (0, None))[1] if source == "gesture" else self.hands.get(source)
+            item = self.shader.input(name)
+            if isinstance(item.maximum, list) and len(item.maximum) == 2:  # a point in MIN..MAX, e.g. 0..1
+                lo = item.minimum if isinstance(item.minimum, list) and len(item.minimum) == 2 else (0.0, 0.0)
+                if where is None:
+                    return self.values.get(name, item.default)  # an unseen hand leaves it where it was
+                return tuple(a + (b - a) * t for a, b, t in zip(lo, item.maximum, (where[0] / w, 1.0 - where[1] / h)))
             k = self.options.scale  # ISF pixels are the render's, smaller at a lower scale
             return (FAR, FAR) if where is None else (where[0] * k, (h - where[1]) * k)
         if kind in ("bool", "event"):

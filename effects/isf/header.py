@@ -106,32 +106,42 @@ def _only_line_comments(prefix: str) -> bool:
 
 def relax_json(text: str) -> str:
     """`//` comments and trailing commas removed (outside strings), newlines kept for line numbers."""
+    return _outside_strings(_outside_strings(text, _drop_comment), _drop_trailing_comma)
+
+
+def _outside_strings(text: str, rule) -> str:
+    """Applies `rule(text, i) -> (output, next i) | None` at each character outside JSON strings."""
     out, i, n, in_string = [], 0, len(text), False
     while i < n:
         c = text[i]
         if in_string:
-            out.append(c)
-            if c == "\\" and i + 1 < n:
-                out.append(text[i + 1])
-                i += 1
-            elif c == '"':
-                in_string = False
-        elif c == '"':
-            in_string = True
-            out.append(c)
-        elif text.startswith("//", i):
-            while i < n and text[i] != "\n":
-                i += 1
+            out.append(text[i:i + 2] if c == "\\" else c)
+            i += 2 if c == "\\" else 1
+            in_string = c != '"'
             continue
-        elif c == ",":
-            j = i + 1
-            while j < n and text[j] in " \t\r\n":
-                j += 1
-            out.append(" " if j < n and text[j] in "]}" else c)
-        else:
-            out.append(c)
+        applied = rule(text, i)
+        if applied is not None:
+            out.append(applied[0])
+            i = applied[1]
+            continue
+        in_string = c == '"'
+        out.append(c)
         i += 1
     return "".join(out)
+
+
+def _drop_comment(text: str, i: int) -> tuple[str, int] | None:
+    if not text.startswith("//", i):
+        return None
+    end = text.find("\n", i)
+    return "", len(text) if end < 0 else end
+
+
+def _drop_trailing_comma(text: str, i: int) -> tuple[str, int] | None:
+    if text[i] != ",":
+        return None
+    rest = text[i + 1:].lstrip()
+    return (" ", i + 1) if rest[:1] in ("]", "}") else None
 
 
 def _list(value: Any) -> list:

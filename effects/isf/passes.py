@@ -215,4 +215,5 @@ def load_image(ctx: moderngl.Context, path: Path) -> moderngl.Texture:
         image = (image / (math.pow(2, 8 * image.dtype.itemsize) - 1) * 255).astype(np.uint8)
     texture = ctx.texture((image.shape[1], image.shape[0]), 4, np.ascontiguousarray(image[::-1]).tobytes())
     texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+    texture.repeat_x = texture.repeat_y = False
     return texture

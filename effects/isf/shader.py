@@ -9,6 +9,8 @@ import moderngl
 from effects.isf.glsl import explain, fragment_source, vertex_source
 from effects.isf.header import Input, IsfError, parse_header
 
+LAX_VERSION = 420
+
 
 class IsfShader:
     def __init__(self, path: Path) -> None:
@@ -33,12 +35,24 @@ class IsfShader:
         return next(i for i in self.header.inputs if i.name == name)
 
     def program(self, ctx: moderngl.Context) -> moderngl.Program:
+        """GLSL 330; where that fails and the driver has 4.2 (Mesa, desktop GPUs), 4.2 again: it
+        converts int to uint and return values implicitly, as the lax compilers shaders were
+        written on did. An error names the 330 compile's first lines."""
         try:
             return ctx.program(vertex_shader=self.vertex, fragment_shader=self.fragment)
         except moderngl.Error as error:
-            log = str(error)
-            in_vertex = "vertex_shader\n" in log and self.vertex_path is not None
-            raise IsfError(explain(self.vertex_path if in_vertex else self.path, log)) from None
+            first = str(error)
+        if ctx.version_code >= LAX_VERSION:
+            try:
+                return ctx.program(vertex_shader=lax(self.vertex), fragment_shader=lax(self.fragment))
+            except moderngl.Error:
+                pass
+        in_vertex = "vertex_shader\n" in first and self.vertex_path is not None
+        raise IsfError(explain(self.vertex_path if in_vertex else self.path, first))
+
+
+def lax(source: str) -> str:
+    return source.replace("#version 330\n", f"#version {LAX_VERSION}\n", 1)
 
 
 def _read(path: Path) -> str:

@@ -4,6 +4,8 @@ samples come from the show's sound (`stage.extra["audio"]`, see host/audio.py); 
 textures are silent (a flat 0.5 waveform, an empty spectrum)."""
 from __future__ import annotations
 
+from typing import Callable
+
 import moderngl
 import numpy as np
 
@@ -13,9 +15,15 @@ DEFAULT_SAMPLES = 512
 
 
 class SoundTextures:
-    def __init__(self, ctx: moderngl.Context, sound: Sound | None) -> None:
-        self.ctx, self.sound = ctx, sound
+    """`source()` gives the sound now (the `audio` effect may come later in the profile)."""
+
+    def __init__(self, ctx: moderngl.Context, source: Callable[[], Sound | None]) -> None:
+        self.ctx, self.source = ctx, source
         self.textures: dict[tuple[str, int], moderngl.Texture] = {}
+
+    @property
+    def sound(self) -> Sound | None:
+        return self.source()
 
     def level(self) -> float:
         return self.sound.level() if self.sound is not None else 0.0

@@ -83,7 +83,8 @@ class Trial:
         self.target = self.ctx.texture(size, 4)
         self.fbo = self.ctx.framebuffer([self.target])
         self.clock = 0.0
-        self.sound = SoundTextures(self.ctx, ToneSound(clock=lambda: self.clock))
+        tone = ToneSound(clock=lambda: self.clock)
+        self.sound = SoundTextures(self.ctx, lambda: tone)
 
     def run(self, path: Path, frames: int, snapshot: Path | None) -> dict[str, Any]:
         result: dict[str, Any] = {"file": str(path), "ok": False, "error": None, "passes": 0, "kind": "generator",

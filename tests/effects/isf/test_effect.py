@@ -49,12 +49,6 @@ def test_a_header_that_is_not_json_names_file_and_line(tmp_path):
         IsfShader(path)
 
 
-def test_multi_pass_shaders_are_refused_with_the_reason(tmp_path):
-    path = write(tmp_path, "passes.fs", '/*{"PASSES": [{"TARGET": "a"}, {}]}*/\nvoid main() {}\n')
-    with pytest.raises(IsfError, match="single-pass"):
-        IsfShader(path)
-
-
 def test_bindings_are_checked_with_the_profile(tmp_path, capsys):
     path = write(tmp_path, "ok.fs", GOOD_HEADER + "void main() { gl_FragColor = vec4(1.0); }\n")
     profile = write(tmp_path, "show.toml", """
