@@ -14,6 +14,7 @@ from typing import Any
 from host.render.calibration import check_calibration, check_keystone, keystone_matrix
 from host.render.compositor import Compositor, pixels_to_clip
 from host.render.context import Headless, Window, open_surface
+from host.render.gputime import LayerTimes
 from host.render.hud import Hud
 from host.render.outputs import VideoOutput, check_folder, save_snapshot
 from host.render.textures import FrameTextures
@@ -32,6 +33,7 @@ class Renderer:
         self.corners = keystone
         self.keystone: Keystone | None = None  # the warp pass, only for effects that need it
         self.hud = Hud(self.ctx, self.size) if output.hud else None
+        self.layer_times = LayerTimes(self.ctx) if output.hud else None
         self.video = VideoOutput(output.video, self.size, output.fps) if output.video else None
         self.snapshot = output.snapshot
         self.frame_ms = array("d")  # time spent in each render() call, for bench/render.py
@@ -78,8 +80,10 @@ class Renderer:
         if self.keystone is not None:
             self.keystone.draw(self.surface.fbo)
         if self.hud is not None:
-            self.hud.draw(show.metrics, self.surface.fbo)
+            self.hud.draw(show.metrics, self.surface.fbo, self.layer_times.line())
         self.surface.present()  # waits for the frame with the GIL released: read it back after
+        if self.layer_times is not None:
+            self.layer_times.collect()
         if self.video is not None:
             self.video.write(self.surface.fbo)
         self.frame_ms.append((time.perf_counter() - t0) * 1000.0)
@@ -89,7 +93,11 @@ class Renderer:
             return
         target = self.compositor.before(slot.blend, slot.opacity)
         try:
-            slot.effect.render(target)
+            if self.layer_times is None:
+                slot.effect.render(target)
+            else:
+                with self.layer_times.query(f"{slot.where} {slot.effect.name}"):
+                    slot.effect.render(target)
         except Exception as error:
             show.disable(slot, "render", error)
             return
@@ -125,4 +133,5 @@ class Renderer:
             self.compositor.release()
             if self.hud is not None:
                 self.hud.release()
+                self.layer_times.release()
             self.surface.close()
