@@ -1,8 +1,9 @@
 """Each layer's GPU time for the HUD, from GL timer queries, where the driver reports it.
 
 The queries are read after the frame was presented (the renderer waits for it), so reading
-them never stalls the pipeline. Mesa's llvmpipe answers timer queries with 2^32-1 ns whatever
-was drawn: such answers are "not reported" and the HUD says so rather than showing a number.
+them never stalls the pipeline. A driver without timer queries (or llvmpipe
+on a context that has not flushed yet) answers 2^32-1 ns: such answers are skipped, and while no
+layer has a real time the HUD says "not reported" rather than showing a number.
 """
 from __future__ import annotations
 
@@ -16,7 +17,6 @@ class LayerTimes:
         self.ctx = ctx
         self.queries: dict[str, moderngl.Query] = {}
         self.ms: dict[str, float] = {}  # smoothed, per layer name
-        self.reported = True
 
     def query(self, name: str) -> moderngl.Query:
         if name not in self.queries:
@@ -28,10 +28,13 @@ class LayerTimes:
         for name, query in self.queries.items():
             elapsed = query.elapsed
             if elapsed <= 0 or elapsed >= UNREPORTED_NS:
-                self.reported = False
                 continue
             ms = elapsed / 1e6
             self.ms[name] = ms if name not in self.ms else 0.9 * self.ms[name] + 0.1 * ms
+
+    @property
+    def reported(self) -> bool:
+        return bool(self.ms)
 
     def line(self) -> str:
         if not self.reported:

@@ -96,7 +96,7 @@ class Renderer:
             if self.layer_times is None:
                 slot.effect.render(target)
             else:
-                with self.layer_times.query(f"{slot.where} {slot.effect.name}"):
+                with self.layer_times.query(f"{slot.where.removeprefix('effects')}{slot.effect.name}"):
                     slot.effect.render(target)
         except Exception as error:
             show.disable(slot, "render", error)

@@ -11,7 +11,7 @@ def test_each_layer_is_timed_or_said_to_be_unreported(tmp_path):
     times = show.renderer.layer_times
     assert times.ms or not times.reported
     if times.reported:
-        assert 0 < times.ms["effects[0] depth-view"] < 1000 and "effects[0] depth-view" in times.line()
+        assert 0 < times.ms["[0]depth-view"] < 1000 and "[0]depth-view" in times.line()
     else:
         assert times.line() == "layer GPU ms: not reported by this driver"
     assert image[:20, :60].max() > 0  # the HUD panel is drawn
