@@ -192,9 +192,7 @@ class Isf(Effect):
     def _image(self, target, name: str, source: str):
         kind = self.shader.inputs[name]
         if kind in ("audio", "audioFFT"):
-            item = self.shader.input(name)
-            samples = int(item.maximum) if isinstance(item.maximum, (int, float)) and item.maximum >= 2 else 0
-            return self.sound.texture(kind, samples)
+            return self.sound.texture(kind, self.shader.input(name).samples)
         if source == "below":
             return target.below()
         if source == "depth":

@@ -40,6 +40,11 @@ class Input:
     values: list[int] = field(default_factory=list)
     labels: list[str] = field(default_factory=list)
 
+    @property
+    def samples(self) -> int:
+        """An audio/audioFFT input's MAX: how many samples or bins it wants (0: the host's choice)."""
+        return int(self.maximum) if isinstance(self.maximum, (int, float)) and self.maximum >= 2 else 0
+
 
 @dataclass
 class Pass:

@@ -120,8 +120,7 @@ class Trial:
             if item.type == "image":
                 images[item.name] = views["turbo" if item.name == "endImage" else "gray"]
             elif item.type in ("audio", "audioFFT"):
-                samples = int(item.maximum) if isinstance(item.maximum, (int, float)) and item.maximum >= 2 else 0
-                images[item.name] = self.sound.texture(item.type, samples)
+                images[item.name] = self.sound.texture(item.type, item.samples)
 
         def bind() -> None:
             self.fbo.use()

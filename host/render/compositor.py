@@ -15,7 +15,8 @@ set it; an effect's own overlapping shapes combine with its blend mode too.
 Filters read the show so far: `target.below()` copies the stage as composited up to this layer
 into a texture (one blit, only for the effects that ask). A layer group (effects N..M) that a
 later effect reads with `target.layers(N, M)` is drawn into a texture of its own instead of onto
-the stage, so that effect (a transition) can mix it with what is below.
+the stage, so that effect (a transition) can mix it with what is below; inside a group,
+`below()` is the group drawn so far.
 """
 from __future__ import annotations
 
