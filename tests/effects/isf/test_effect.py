@@ -160,3 +160,27 @@ def test_bindings_for_transitions_and_filters_are_checked(tmp_path):
         Isf.Options(file=str(path), bind={"endImage": "layers"})
     with pytest.raises(ValueError, match=r"cannot be bound to 'time.0'"):
         Isf.Options(file=str(path), bind={"progress": "time.0"})
+
+
+SHOW_VALUE = """/*{"INPUTS": [{"NAME": "v", "TYPE": "float", "MIN": 0.0, "MAX": 1.0, "DEFAULT": 0.0}]}*/
+void main() { gl_FragColor = vec4(v, 0.0, 0.0, 1.0); }
+"""
+
+
+@requires_gl
+@pytest.mark.parametrize("gesture, lit", [("swipe_left", True), ("wave", False)])
+def test_a_toggle_binding_starts_fading_on_its_gesture(tmp_path, gesture, lit):
+    shader = write(tmp_path, "v.fs", SHOW_VALUE)
+    effect = isf(file=str(shader), bind={"v": "gesture.swipe_left.toggle"})
+    image = run_show([effect], frames_with_hand([HAND] * 10, {1: [gesture_at(gesture, HAND)]}), tmp_path, SIZE)[0]
+    red = int(image[120, 160, 2])
+    assert (5 < red < 250) if lit else red == 0  # fading in over a second (the run lasts ~0.2 s)
+
+
+@requires_gl
+def test_a_float_follows_the_hand_across_the_stage(tmp_path):
+    shader = write(tmp_path, "v.fs", SHOW_VALUE)
+    frames = frames_with_hand([HAND] * 3)
+    image, _, stage = run_show([isf(file=str(shader), bind={"v": "hand.right.x"})], frames, tmp_path, SIZE)
+    x = stage.to_stage(HAND, frames[-1].depth)[0] / SIZE[0]
+    assert abs(int(image[120, 160, 2]) - x * 255) <= 2
