@@ -86,9 +86,10 @@ class Isf(Effect):
         self.sources = image_sources(self.shader, self.options.bind)
         # The show below and layer groups are read as drawn: the keystone is then one warp pass.
         self.keystone_aware = not any(s == "below" or LAYERS.match(s) for s in self.sources.values())
-        self.captures = tuple(layer_range(s) for s in self.sources.values() if LAYERS.match(s))
         ctx = stage.ctx
         self.runner = IsfRenderer(ctx, self.shader)
+        # Only a shader that compiled hides the layers it reads from the stage.
+        self.captures = tuple(layer_range(s) for s in self.sources.values() if LAYERS.match(s))
         self.sound = SoundTextures(ctx, lambda: stage.extra.get("audio"))
         self.offscreen = None
         if self.options.scale < 1:
