@@ -6,6 +6,7 @@ other layers keep rendering.
 """
 from __future__ import annotations
 
+import sys
 import time
 from array import array
 from pathlib import Path
@@ -107,8 +108,14 @@ class Renderer:
         """Layer groups other effects read (`captures`: (first, last) profile indices) are drawn
         apart; keystone in the effects' own matrix when they all draw through it, else a warp pass."""
         self._planned = drawing
-        self._groups = {i: group for effect in drawing for group in getattr(effect, "captures", ())
-                        for i in range(group[0], group[1] + 1) if 0 <= i < len(effects)}
+        self._groups = {}
+        for reader, slot in enumerate(effects):
+            for first, last in getattr(slot.effect, "captures", ()) if slot.effect.renders else ():
+                if first <= reader <= last or last >= len(effects):
+                    print(f"issv: {slot.where}: reads effects[{first}..{last}], which must be other effects of "
+                          f"the profile (0..{len(effects) - 1}, not itself); it sees nothing there", file=sys.stderr)
+                    continue
+                self._groups.update({i: (first, last) for i in range(first, last + 1)})
         if not self.corners:
             return
         if all(getattr(effect, "keystone_aware", False) for effect in drawing):

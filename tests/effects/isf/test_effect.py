@@ -184,3 +184,12 @@ def test_a_float_follows_the_hand_across_the_stage(tmp_path):
     image, _, stage = run_show([isf(file=str(shader), bind={"v": "hand.right.x"})], frames, tmp_path, SIZE)
     x = stage.to_stage(HAND, frames[-1].depth)[0] / SIZE[0]
     assert abs(int(image[120, 160, 2]) - x * 255) <= 2
+
+
+@requires_gl
+def test_a_transition_that_reads_its_own_layer_says_so_and_the_show_goes_on(tmp_path, capsys):
+    fade = isf(file=str(write(tmp_path, "mix.fs", MIX)), bind={"endImage": "layers.1"}, values={"progress": 1.0})
+    image, show, _ = run_show([DepthView(DepthView.Options()), fade], frames_with_hand([HAND] * 3), tmp_path, SIZE)
+    err = capsys.readouterr().err
+    assert err.count("effects[1]: reads effects[1..1], which must be other effects") == 1
+    assert all(slot.enabled for slot in show.effects)
