@@ -12,7 +12,7 @@ import sys
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from host import Effect, Frame, Stage
-from host.audio import CaptureSound, FileSound
+from host.audio import AUDIO_EXTRA, CaptureSound, FileSound
 from host.errors import UserError
 from host.options import ProfilePath
 
@@ -33,6 +33,13 @@ class AudioOptions(BaseModel):
 class Audio(Effect):
     name = "audio"
     Options = AudioOptions
+
+    @classmethod
+    def availability(cls) -> str | None:
+        import importlib.util
+        if importlib.util.find_spec("soundfile") or importlib.util.find_spec("sounddevice"):
+            return None  # one of the two is enough for its kind of input; setup names a missing one
+        return f"needs soundfile (files) or sounddevice (capture): {AUDIO_EXTRA}"
 
     def setup(self, stage: Stage) -> None:
         super().setup(stage)
