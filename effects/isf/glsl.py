@@ -28,6 +28,7 @@ COMMON = [(re.compile(r"\btexture2DRect\b"), "texture"), (re.compile(r"\btexture
 FRAGMENT_ONLY = [(re.compile(r"\bgl_FragColor\b"), "isf_FragColor"),
                  (re.compile(r"\bgl_FragData\s*\[\s*0\s*\]"), "isf_FragColor"), (re.compile(r"\bvarying\b"), "in")]
 VERTEX_ONLY = [(re.compile(r"\bvarying\b"), "out"), (re.compile(r"\battribute\b"), "in")]
+GIVEN = {"RENDERSIZE", "TIME", "TIMEDELTA", "FRAMEINDEX", "PASSINDEX", "DATE", "isf_FragNormCoord", "vv_FragNormCoord"}
 TEXTURE_VARIABLE = re.compile(r"\btexture\b(?!\s*\()")
 
 BUILTINS = """uniform vec2 RENDERSIZE;
@@ -90,9 +91,9 @@ def translate(body: str, stage: str, declared: set[str]) -> str:
     for pattern, repl in COMMON + (FRAGMENT_ONLY if stage == "fragment" else VERTEX_ONLY):
         body = pattern.sub(repl, body)
     body = _RESERVED.sub(r"isf_\1", body)
-    # A shader that declares a uniform the header already gives (e.g. its inputImage) keeps one.
-    redeclared = re.compile(r"^[ \t]*uniform\s+\w+\s+(\w+)\s*;", re.M)
-    return redeclared.sub(lambda m: "" if m.group(1) in declared else m.group(0), body)
+    # A shader that declares what ISF already gives (its inputImage, TIME, isf_FragNormCoord) keeps one.
+    redeclared = re.compile(r"^[ \t]*(?:uniform|in|out)\s+(?:(?:high|medium|low)p\s+)?\w+\s+(\w+)\s*;", re.M)
+    return redeclared.sub(lambda m: "" if m.group(1) in declared | GIVEN else m.group(0), body)
 
 
 def fragment_source(path: Path, text: str, header: Header) -> str:

@@ -57,6 +57,6 @@ def lax(source: str) -> str:
 
 def _read(path: Path) -> str:
     try:
-        return path.read_text(encoding="utf-8", errors="replace")
+        return path.read_text(encoding="utf-8-sig", errors="replace")  # -sig: a BOM some editors write
     except OSError as error:
         raise IsfError(f"{path}: cannot read the ISF shader: {error}") from None

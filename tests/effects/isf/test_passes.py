@@ -129,3 +129,31 @@ def test_an_image_input_is_sampled_with_img_pixel_in_pixels(ctx, tmp_path):
                                     "void main() { gl_FragColor = IMG_PIXEL(inputImage, vec2(2.5, 0.5)); }\n")
     assert render(ctx, path, images={"inputImage": texture})[5, 5, 0] == pytest.approx(120 / 255, abs=0.01)
     texture.release()
+
+
+def test_files_that_declare_what_isf_gives_or_start_with_a_bom_run(ctx, tmp_path):
+    redeclared = write(tmp_path, "redeclared.fs", '/*{"INPUTS": [{"NAME": "speed", "TYPE": "float", "DEFAULT": 1.0}]}*/\n'
+                                                  "uniform float TIME;\nuniform float speed;\nvarying vec2 vv_FragNormCoord;\n"
+                                                  "float t = 0.5 + TIME * speed;  // a global set from uniforms\n"
+                                                  "void main(void) { gl_FragColor = vec4(t, vv_FragNormCoord.x, 0.0, 1.0); }\n")
+    assert render(ctx, redeclared)[60, 80, 0] == pytest.approx(0.5, abs=0.01)
+    bom = tmp_path / "bom.fs"
+    bom.write_bytes(b'\xef\xbb\xbf/*{\r\n "INPUTS": []\r\n}*/\r\nvoid main() {\r\n gl_FragColor = vec4(0.25, 0.25, 0.25, 1.0);\r\n}\r\n')
+    assert render(ctx, bom)[0, 0, 0] == pytest.approx(0.25, abs=0.01)
+
+
+def test_an_isf_v1_file_with_persistent_buffers_and_an_imported_list_runs(ctx, tmp_path):
+    cv2.imwrite(str(tmp_path / "grey.png"), np.full((4, 4, 3), 128, np.uint8))
+    path = write(tmp_path, "v1.fs", """/*{
+    "INPUTS": [{"NAME": "decay", "TYPE": "float", "DEFAULT": 0.5,},],
+    "IMPORTED": [{"NAME": "grey", "PATH": "grey.png"}],
+    "PERSISTENT_BUFFERS": ["trail"],
+    "PASSES": [{"TARGET": "trail"}, {}],
+}*/
+void main() {
+    if (PASSINDEX == 0) gl_FragColor = IMG_NORM_PIXEL(trail, vv_FragNormCoord) * decay + IMG_THIS_PIXEL(grey) * 0.5;
+    else gl_FragColor = vec4(IMG_THIS_PIXEL(trail).rgb, 1.0);
+}
+""")
+    # trail_n = trail_(n-1) / 2 + 0.25: 0.25, 0.375, 0.4375 after three frames (8-bit steps)
+    assert render(ctx, path, frames=3)[60, 80, 0] == pytest.approx(0.4375, abs=0.01)
