@@ -23,11 +23,17 @@ _RESERVED = re.compile(r"\b(" + "|".join(RESERVED) + r")\b")
 COMMON = [(re.compile(r"\btexture2DRect\b"), "texture"), (re.compile(r"\btexture2DProj\b"), "textureProj"),
           (re.compile(r"\btexture2DLod\b"), "textureLod"), (re.compile(r"\btexture2DGrad\b"), "textureGrad"),
           (re.compile(r"\btextureCube\b"), "texture"), (re.compile(r"\btexture2D\b"), "texture"),
+          (re.compile(r"\btexture[13]D\b"), "texture"), (re.compile(r"\bshadow2D\b"), "texture"),
           (re.compile(r"\bsampler2DRect\b"), "sampler2D"), (re.compile(r"\bvoid\s+main\s*\("), "void isf_main("),
           (re.compile(r"^[ \t]*#[ \t]*version\b.*$", re.M), "")]
+# Compatibility-profile built-ins that core removed, as the full-screen quad gives them.
 FRAGMENT_ONLY = [(re.compile(r"\bgl_FragColor\b"), "isf_FragColor"),
+                 (re.compile(r"\bgl_TexCoord\s*\[\s*0\s*\]"), "vec4(isf_FragNormCoord, 0.0, 1.0)"),
                  (re.compile(r"\bgl_FragData\s*\[\s*0\s*\]"), "isf_FragColor"), (re.compile(r"\bvarying\b"), "in")]
-VERTEX_ONLY = [(re.compile(r"\bvarying\b"), "out"), (re.compile(r"\battribute\b"), "in")]
+VERTEX_ONLY = [(re.compile(r"\bvarying\b"), "out"), (re.compile(r"\battribute\b"), "in"),
+               (re.compile(r"\bftransform\s*\(\s*\)|\bgl_Vertex\b"), "vec4(issv_position, 0.0, 1.0)"),
+               (re.compile(r"\bgl_ModelViewProjectionMatrix\b"), "mat4(1.0)"),
+               (re.compile(r"\bgl_MultiTexCoord0\b"), "vec4(issv_position * 0.5 + 0.5, 0.0, 1.0)")]
 GIVEN = {"RENDERSIZE", "TIME", "TIMEDELTA", "FRAMEINDEX", "PASSINDEX", "DATE", "isf_FragNormCoord", "vv_FragNormCoord"}
 TEXTURE_VARIABLE = re.compile(r"\btexture\b(?!\s*\()")
 
@@ -57,7 +63,8 @@ void isf_vertShaderInit() {
 }
 #define vv_vertShaderInit isf_vertShaderInit
 """
-VERTEX_TAIL = "\nvoid main() { isf_main(); vec3 p = issv_clip * gl_Position.xyw; gl_Position = vec4(p.xy, 0.0, p.z); }\n"
+# isf_vertShaderInit() runs first too: a .vs that forgets it still gives isf_FragNormCoord.
+VERTEX_TAIL = "\nvoid main() { isf_vertShaderInit(); isf_main(); vec3 p = issv_clip * gl_Position.xyw; gl_Position = vec4(p.xy, 0.0, p.z); }\n"
 DEFAULT_VERTEX_BODY = "void isf_main() { isf_vertShaderInit(); }\n"
 COMPILER_LINE = re.compile(r"^\s*\d+:(\d+)\(\d+\):\s*(.*)$|^\s*ERROR:\s*\d+:(\d+):\s*(.*)$")
 

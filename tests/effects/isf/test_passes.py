@@ -157,3 +157,12 @@ void main() {
 """)
     # trail_n = trail_(n-1) / 2 + 0.25: 0.25, 0.375, 0.4375 after three frames (8-bit steps)
     assert render(ctx, path, frames=3)[60, 80, 0] == pytest.approx(0.4375, abs=0.01)
+
+
+def test_compatibility_profile_built_ins_of_old_vertex_and_fragment_shaders_run(ctx, tmp_path):
+    write(tmp_path, "old.vs", "varying vec2 uv;\nvoid main() {\n    gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex;\n"
+                              "    uv = gl_MultiTexCoord0.xy;\n}\n")
+    path = write(tmp_path, "old.fs", "/*{}*/\nvarying vec2 uv;\nvoid main() {\n"
+                                     "    gl_FragColor = vec4(uv.x, gl_TexCoord[0].y, 0.0, 1.0);\n}\n")
+    image = render(ctx, path)
+    assert image[0, -1, 0] > 0.98 and image[0, -1, 1] > 0.98 and image[-1, 0, :2].max() < 0.02
