@@ -1,4 +1,5 @@
 """Registers the built-in effects, exactly as a third-party plugin would."""
+from effects.audio import Audio
 from effects.console import ConsoleEffect
 from effects.depth_view import DepthView
 from effects.digieviss import DigiEVISS
@@ -14,7 +15,14 @@ from host import hookimpl
 @hookimpl
 def register_effects(register):
     register(ConsoleEffect)
+    register(Audio)
     register(OscEffect)
     for effect in (DepthView, HandTrails, StarTrail, GestureBurst, Silhouette, Isf):
         register(effect)
     register(DigiEVISS)
+
+
+@hookimpl
+def register_commands(register):
+    from effects.isf import command
+    register(command)
