@@ -1,0 +1,120 @@
+"""Online matching of learned gestures: dynamic time warping of the live postures against every
+taught repetition at once.
+
+Each repetition is a template; the live stream may match it starting at any instant (subsequence
+DTW). Every posture the stream advances, a template advances by 0, 1 or 2 of its own postures, so
+a performance may be up to twice as fast as the teaching, and at most twice as slow (the band:
+a path may not hold more than its own length in stays). A path's score is the mean weighted
+distance between the live postures and the template's along it. A gesture completes when its
+best template has been matched up to its `fires_at` point with a score below the gesture's
+threshold, at the instant that score is lowest (one posture later). All templates of all
+gestures sit in one array, so a frame costs a handful of numpy operations whatever their number.
+
+One motion is one gesture: when a gesture completes, every path under way is dropped, and the
+gesture rests for most of its remaining length so the rest of the motion cannot fire it again.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from host.learned.features import RATE_HZ
+from host.learned.gesture_file import LearnedGesture
+
+SKIP_WEIGHT = 2.0  # a skip covers two template postures: it counts twice
+REST_SHARE = 0.8  # after completing, a gesture rests for this share of its typical length
+
+
+@dataclass(frozen=True)
+class Match:
+    """A learned gesture recognised: which, how well (score / threshold < 1) and its state."""
+
+    index: int
+    ratio: float
+    complete: bool
+
+
+def _resampled(postures: np.ndarray, rate_hz: float) -> np.ndarray:
+    if abs(rate_hz - RATE_HZ) < 1e-6:
+        return postures
+    n = len(postures)
+    t_old = np.arange(n) / rate_hz
+    t_new = np.arange(0.0, t_old[-1] + 1e-9, 1.0 / RATE_HZ)
+    return np.column_stack([np.interp(t_new, t_old, postures[:, c]) for c in range(postures.shape[1])])
+
+
+class Matcher:
+    """Fed one posture at a time (RATE_HZ); says which learned gestures it completes."""
+
+    def __init__(self, gestures: list[LearnedGesture], thresholds: list[float] | None = None) -> None:
+        self.gestures = gestures
+        self.thresholds = np.array(thresholds if thresholds is not None else [g.threshold for g in gestures], float)
+        prefixes, owner, typical = [], [], []
+        for gi, g in enumerate(gestures):
+            reps = [_resampled(r.postures, g.rate_hz) for r in g.repetitions]
+            typical.append(float(np.median([len(r) for r in reps])))
+            for r in reps:
+                prefixes.append(r[:max(2, int(round(g.fires_at * len(r))))])
+                owner.append(gi)
+        self.owner = np.array(owner, int)
+        m, k = len(prefixes), max((len(p) for p in prefixes), default=2)
+        self.templates = np.zeros((m, k, 6))
+        self.valid = np.zeros((m, k), bool)
+        self.end = np.array([len(p) - 1 for p in prefixes], int)
+        for i, p in enumerate(prefixes):
+            self.templates[i, :len(p)] = p
+            self.valid[i, :len(p)] = True
+        self.weights = np.array([gestures[o].weights for o in owner]).reshape(m, 1, 6)
+        self.band = 2.0 * (np.arange(k) + 1)  # at most twice as slow as the template
+        self.rest_ticks = np.array([REST_SHARE * t for t in typical])
+        self.cost = np.full((m, k), np.inf)  # accumulated distance of the best path ending here
+        self.steps = np.ones((m, k))  # its weight (template postures covered, stays included)
+        self.resting = np.zeros(len(gestures))  # ticks each gesture still rests
+        self._last = np.full(len(gestures), np.inf)  # last tick's score ratio
+        self._rows = np.arange(m)
+
+    def reset(self) -> None:
+        """The stream broke (a hand gone): no path continues across the gap."""
+        self.cost[:] = np.inf
+        self._last[:] = np.inf
+
+    def update(self, posture: np.ndarray) -> list[Match]:
+        """One posture (6,) in; the gesture completed by it, if any."""
+        if not len(self.gestures):
+            return []
+        return self._decide(self.step(posture))
+
+    def step(self, posture: np.ndarray) -> np.ndarray:
+        """Advance every path by one posture; each gesture's best score at its `fires_at` point."""
+        d = np.sqrt(np.sum(self.weights * (self.templates - posture) ** 2, axis=2))
+        d[~self.valid] = np.inf
+        cost, steps = self.cost, self.steps
+        shifted1 = np.concatenate([np.zeros((len(cost), 1)), cost[:, :-1]], axis=1)  # fresh starts at 0
+        steps1 = np.concatenate([np.zeros((len(cost), 1)), steps[:, :-1]], axis=1)
+        shifted2 = np.concatenate([np.full((len(cost), 2), np.inf), cost[:, :-2]], axis=1)
+        steps2 = np.concatenate([np.zeros((len(cost), 2)), steps[:, :-2]], axis=1)
+        stay = np.where(steps + 1 <= self.band, cost, np.inf)
+        options = np.stack([shifted1 + d, shifted2 + SKIP_WEIGHT * d, stay + d])
+        best = np.argmin(options, axis=0)
+        self.cost = np.take_along_axis(options, best[None], axis=0)[0]
+        self.steps = np.choose(best, [steps1 + 1, steps2 + SKIP_WEIGHT, steps + 1])
+        score = self.cost[self._rows, self.end] / self.steps[self._rows, self.end]
+        per = np.full(len(self.gestures), np.inf)
+        np.minimum.at(per, self.owner, score)
+        return per
+
+    def _decide(self, per: np.ndarray) -> list[Match]:
+        ratio = per / self.thresholds
+        ratio[self.resting > 0] = np.inf
+        self.resting = np.maximum(0, self.resting - 1)
+        last, self._last = self._last, ratio
+        # complete at the lowest point: below threshold last tick and not lower now
+        ready = (last < 1.0) & (ratio >= last)
+        if not ready.any():
+            return []
+        gi = int(np.argmin(np.where(ready, last, np.inf)))
+        self.cost[:] = np.inf
+        self._last[:] = np.inf
+        self.resting[gi] = self.rest_ticks[gi]
+        return [Match(gi, float(last[gi]), True)]
