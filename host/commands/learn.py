@@ -2,6 +2,7 @@
 
     issv learn goggles take1.csv take2.csv@3.5-20 --mirrored -o goggles.gesture.json
     issv learn --show goggles.gesture.json          # what was learned, and a PNG of the repetitions
+    issv learn bow --profile stage.toml --repetitions 5   # live, from the profile's source and backend
 
 Each example holds one or more repetitions separated by rest or stillness; the learner finds them,
 says how many and how alike they are, and names a repetition far from the others by its time.
@@ -9,6 +10,7 @@ says how many and how alike they are, and names a repetition far from the others
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -30,6 +32,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", type=Path, help="where to write the gesture (default: NAME.gesture.json)")
     p.add_argument("--backend", default="openiss", help="backend that tracks hands in .npz clips (default: openiss)")
     p.add_argument("--show", type=Path, metavar="FILE", help="print what FILE learned and plot its repetitions (PNG)")
+    p.add_argument("--profile", type=Path, help="teach live: take the repetitions from this profile's source and backend")
+    p.add_argument("--repetitions", type=int, default=5, help="live: how many repetitions to take (default: 5)")
+    p.add_argument("--seconds", type=float, default=3.0, help="live: seconds for each repetition (default: 3)")
 
 
 def describe(g: LearnedGesture) -> str:
@@ -71,6 +76,18 @@ def plot(g: LearnedGesture, path: Path) -> None:
         plt.close(fig)
 
 
+def _live(args: argparse.Namespace) -> list:
+    from host import profile as profiles
+    from host.assemble import make_backend
+    from host.learned.live import teach
+    if args.repetitions < 2:
+        raise UserError("issv learn: --repetitions must be at least 2 (the threshold comes from how they differ)")
+    backend = make_backend(profiles.load(args.profile), realtime=True)
+    ask = input if sys.stdin.isatty() else None
+    with backend.inner if hasattr(backend, "inner") else backend:
+        return teach(backend, args.repetitions, args.seconds, sys.stdout, ask)
+
+
 def main(args: argparse.Namespace) -> int:
     if args.show is not None:
         gesture = load(args.show)
@@ -81,9 +98,13 @@ def main(args: argparse.Namespace) -> int:
         return 0
     if not args.name:
         raise UserError("issv learn: name the gesture and give examples of it: issv learn NAME TAKE.csv ...")
-    if not args.examples:
-        raise UserError(f"issv learn {args.name}: give at least one example (TAKE.csv, CLIP.npz, REC.mcap)")
-    takes = [read_take(e, args.mirrored, args.backend) for e in args.examples]
+    if args.profile is not None:
+        takes = _live(args)
+    elif not args.examples:
+        raise UserError(f"issv learn {args.name}: give examples (TAKE.csv, CLIP.npz, REC.mcap) or --profile to "
+                        "teach live")
+    else:
+        takes = [read_take(e, args.mirrored, args.backend) for e in args.examples]
     gesture = learn(args.name, takes)
     output = args.output or Path(f"{args.name}.gesture.json")
     gesture.save(output)

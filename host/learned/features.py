@@ -22,7 +22,8 @@ from host.model import Hand, Side
 
 RATE_HZ = 15.0  # postures per second, templates and live streams alike
 DEFAULT_SIZE_MM = 520.0  # head-torso distance of an adult, used until a head is seen
-HAND_HOLD_S = 0.5  # a hand unseen for longer breaks the stream (no posture until it is back)
+HAND_HOLD_S = 0.5  # a hand unseen for longer hangs at rest (a depth engine reports only hands held out)
+REST_PLACE = {Side.LEFT: (-0.3, -0.6, -0.1), Side.RIGHT: (0.3, -0.6, -0.1)}  # hands at rest, body units
 _SIZE_WINDOW = 60  # head-torso distances in the running median (two seconds at 30 Hz)
 _REST_WINDOW_S = 4.0  # without a torso: how long the hands' resting place is looked for
 _REST_BELOW_TORSO = 0.6  # hands at rest hang this many body sizes below the torso (Kinect spine joint)
@@ -41,7 +42,8 @@ class PostureStream:
 
     Hands are told apart by their side when the backend knows it, else by where they are (the one
     further to the performer's left is the left). A hand unseen for a moment keeps its place; one
-    unseen for longer than HAND_HOLD_S stops the stream until it is back."""
+    unseen for longer than HAND_HOLD_S hangs at rest (REST_PLACE). With no hand at all the stream
+    breaks: no posture until a hand is back."""
 
     def __init__(self, mirrored: bool = True, rate_hz: float = RATE_HZ) -> None:
         self.flip = 1.0 if mirrored else -1.0  # camera x -> the performer's right
@@ -93,24 +95,35 @@ class PostureStream:
         return min(known)[1] if known else Side.RIGHT
 
     def _vector(self, t: float, body: Mapping[str, Sequence[float]]) -> np.ndarray | None:
-        hands = [self._hands.get(s) for s in (Side.LEFT, Side.RIGHT)]
-        if any(h is None or t - h[0] > HAND_HOLD_S for h in hands):
-            return None
-        left, right = hands[0][1], hands[1][1]
+        seen = {s: h[1] for s, h in self._hands.items() if t - h[0] <= HAND_HOLD_S}
+        if not seen:
+            return None  # nobody there
         torso, head = body.get("torso"), body.get("head")
         if torso is not None and head is not None:
             size = float(np.linalg.norm(np.subtract(head, torso)))
             if size > 100.0:  # a real head above a real torso; anything else is a glitch
                 self._sizes.append(size)
         size = float(np.median(self._sizes)) if self._sizes else DEFAULT_SIZE_MM
-        centre = np.asarray(torso, float) if torso is not None else self._estimated_torso(t, left, right, size)
-        rel = (np.concatenate([left, right]) - np.tile(centre, 2)) / size
-        rel[0::3] *= self.flip
-        return rel
+        centre = np.asarray(torso, float) if torso is not None else self._estimated_torso(t, seen, size)
+        rel = []
+        for side in (Side.LEFT, Side.RIGHT):
+            if side in seen:
+                place = (seen[side] - centre) / size
+                place[0] *= self.flip
+            else:
+                place = np.array(REST_PLACE[side])
+            rel.append(place)
+        return np.concatenate(rel)
 
-    def _estimated_torso(self, t: float, left: np.ndarray, right: np.ndarray, size: float) -> np.ndarray:
-        """No skeleton: the hands' lowest resting place of the last seconds, lifted by a body size."""
-        self._low.append((t, (left + right) / 2))
+    def _estimated_torso(self, t: float, seen: dict[Side, np.ndarray], size: float) -> np.ndarray:
+        """No skeleton: the hands' lowest resting place of the last seconds, lifted by a body size
+        (a hand unseen is taken to hang at rest, where the seen one's partner would)."""
+        if len(seen) == 2:
+            middle = (seen[Side.LEFT] + seen[Side.RIGHT]) / 2
+        else:
+            side, place = next(iter(seen.items()))
+            middle = place - self.flip * np.array([REST_PLACE[side][0] * size, 0.0, 0.0])
+        self._low.append((t, middle))
         while self._low and t - self._low[0][0] > _REST_WINDOW_S:
             self._low.popleft()
         places = np.array([p for _, p in self._low])

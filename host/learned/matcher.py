@@ -22,6 +22,8 @@ import numpy as np
 from host.learned.features import RATE_HZ
 from host.learned.gesture_file import LearnedGesture
 
+MOTION_WEIGHT = 0.5  # how much the direction of motion counts next to where the hands are
+MOTION_SOFT = 1.0  # body units/s: motion slower than this counts less (direction of a still hand is noise)
 SKIP_WEIGHT = 2.0  # a skip covers two template postures: it counts twice
 REST_SHARE = 0.8  # after completing, a gesture rests for this share of its typical length
 
@@ -44,6 +46,20 @@ def _resampled(postures: np.ndarray, rate_hz: float) -> np.ndarray:
     return np.column_stack([np.interp(t_new, t_old, postures[:, c]) for c in range(postures.shape[1])])
 
 
+def motion(postures: np.ndarray) -> np.ndarray:
+    """Each posture with where it is heading: per hand, its velocity over the last two ticks,
+    softly normalised (v / (|v| + MOTION_SOFT)) so a faster performer heads the same way."""
+    back = np.concatenate([postures[:1], postures[:1], postures[:-2]])[:len(postures)]
+    if len(postures) > 1:
+        back[1] = postures[0]
+    v = (postures - back) * (RATE_HZ / 2)
+    out = []
+    for hand in (slice(0, 3), slice(3, 6)):
+        speed = np.linalg.norm(v[:, hand], axis=1, keepdims=True)
+        out.append(MOTION_WEIGHT * v[:, hand] / (speed + MOTION_SOFT))
+    return np.concatenate([postures] + out, axis=1)
+
+
 class Matcher:
     """Fed one posture at a time (RATE_HZ); says which learned gestures it completes."""
 
@@ -55,17 +71,18 @@ class Matcher:
             reps = [_resampled(r.postures, g.rate_hz) for r in g.repetitions]
             typical.append(float(np.median([len(r) for r in reps])))
             for r in reps:
-                prefixes.append(r[:max(2, int(round(g.fires_at * len(r))))])
+                prefixes.append(motion(r)[:max(2, int(round(g.fires_at * len(r))))])
                 owner.append(gi)
         self.owner = np.array(owner, int)
         m, k = len(prefixes), max((len(p) for p in prefixes), default=2)
-        self.templates = np.zeros((m, k, 6))
+        self.templates = np.zeros((m, k, 12))
         self.valid = np.zeros((m, k), bool)
         self.end = np.array([len(p) - 1 for p in prefixes], int)
         for i, p in enumerate(prefixes):
             self.templates[i, :len(p)] = p
             self.valid[i, :len(p)] = True
-        self.weights = np.array([gestures[o].weights for o in owner]).reshape(m, 1, 6)
+        self.weights = np.array([np.tile(gestures[o].weights, 2) for o in owner]).reshape(m, 1, 12)
+        self._recent: list[np.ndarray] = []  # the last two postures: where the hands are heading
         self.band = 2.0 * (np.arange(k) + 1)  # at most twice as slow as the template
         self.rest_ticks = np.array([REST_SHARE * t for t in typical])
         self.cost = np.full((m, k), np.inf)  # accumulated distance of the best path ending here
@@ -78,6 +95,7 @@ class Matcher:
         """The stream broke (a hand gone): no path continues across the gap."""
         self.cost[:] = np.inf
         self._last[:] = np.inf
+        self._recent = []
 
     def update(self, posture: np.ndarray) -> list[Match]:
         """One posture (6,) in; the gesture completed by it, if any."""
@@ -87,6 +105,8 @@ class Matcher:
 
     def step(self, posture: np.ndarray) -> np.ndarray:
         """Advance every path by one posture; each gesture's best score at its `fires_at` point."""
+        self._recent = (self._recent + [posture])[-3:]
+        posture = motion(np.array(self._recent))[-1]
         d = np.sqrt(np.sum(self.weights * (self.templates - posture) ** 2, axis=2))
         d[~self.valid] = np.inf
         cost, steps = self.cost, self.steps

@@ -1,0 +1,46 @@
+"""Live teaching from a profile: the synthetic performer (issv's own source) raising a hand twice,
+its truth hands as the backend; the command counts in, takes each repetition and learns."""
+from __future__ import annotations
+
+from host.cli import main as issv
+from host.learned import gesture_file
+
+CHOREOGRAPHY = """
+[[steps]]
+action = "idle"
+duration = 2.3
+[[steps]]
+action = "swipe_up"
+hand = "right"
+duration = 1.75
+[[steps]]
+action = "idle"
+duration = 3.75
+[[steps]]
+action = "swipe_up"
+hand = "right"
+duration = 1.75
+[[steps]]
+action = "idle"
+duration = 3.5
+"""
+
+PROFILE = """
+[source]
+name = "synthetic"
+choreography_file = "steps.toml"
+[backend]
+name = "truth"
+"""
+
+
+def test_live_teaching_takes_the_repetitions_from_the_profile(tmp_path, capsys):
+    (tmp_path / "steps.toml").write_text(CHOREOGRAPHY)
+    (tmp_path / "teach.toml").write_text(PROFILE)
+    out = tmp_path / "up.gesture.json"
+    assert issv(["learn", "up", "--profile", str(tmp_path / "teach.toml"), "--repetitions", "2",
+                 "-o", str(out)]) == 0
+    said = capsys.readouterr().out
+    assert "repetition 1/2: stand still" in said and "repetition 2/2: go!" in said
+    learned = gesture_file.load(out)
+    assert learned.name == "up" and len(learned.repetitions) == 2 and learned.hands == "right"
