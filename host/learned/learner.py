@@ -22,6 +22,7 @@ from host.learned.segment import find_repetitions
 FIRES_AT = 0.5  # a learned gesture completes half way through (the moment it is unmistakable)
 THRESHOLD_QUANTILE = 0.9
 THRESHOLD_FACTOR = 1.3
+THRESHOLD_FLOOR = 0.15  # body units: repetitions alike to the millimetre still leave room for sensor noise
 BOTH_HANDS = 0.4  # the quieter hand counts as used if it moves this share of the busier one
 IDLE_WEIGHT = 0.3  # an unused hand still counts this much: the rest of the body should look alike
 OUTLIER = 2.0  # a repetition scoring this many times the median is reported as far off
@@ -97,7 +98,8 @@ def learn(name: str, takes: list[Take], fires_at: float = FIRES_AT) -> LearnedGe
     for rep, score in zip(reps, scores):
         rep.score = float(score) if np.isfinite(score) else None
     finite = scores[np.isfinite(scores)]
-    gesture.threshold = float(THRESHOLD_FACTOR * np.quantile(finite, THRESHOLD_QUANTILE)) if len(finite) else 1.0
+    spread = float(np.quantile(finite, THRESHOLD_QUANTILE)) if len(finite) else 1.0
+    gesture.threshold = max(THRESHOLD_FLOOR, THRESHOLD_FACTOR * spread)
     return gesture
 
 

@@ -75,18 +75,18 @@ class Matcher:
                 owner.append(gi)
         self.owner = np.array(owner, int)
         m, k = len(prefixes), max((len(p) for p in prefixes), default=2)
-        self.templates = np.zeros((m, k, 12))
+        self.templates = np.zeros((m, k, 12), np.float32)
         self.valid = np.zeros((m, k), bool)
         self.end = np.array([len(p) - 1 for p in prefixes], int)
         for i, p in enumerate(prefixes):
             self.templates[i, :len(p)] = p
             self.valid[i, :len(p)] = True
-        self.weights = np.array([np.tile(gestures[o].weights, 2) for o in owner]).reshape(m, 1, 12)
+        self.weights = np.array([np.tile(gestures[o].weights, 2) for o in owner], np.float32).reshape(m, 1, 12)
         self._recent: list[np.ndarray] = []  # the last two postures: where the hands are heading
         self.band = 2.0 * (np.arange(k) + 1)  # at most twice as slow as the template
         self.rest_ticks = np.array([REST_SHARE * t for t in typical])
-        self.cost = np.full((m, k), np.inf)  # accumulated distance of the best path ending here
-        self.steps = np.ones((m, k))  # its weight (template postures covered, stays included)
+        self.cost = np.full((m, k), np.inf, np.float32)  # accumulated distance of the best path ending here
+        self.steps = np.ones((m, k), np.float32)  # its weight (template postures covered, stays included)
         self.resting = np.zeros(len(gestures))  # ticks each gesture still rests
         self._last = np.full(len(gestures), np.inf)  # last tick's score ratio
         self._rows = np.arange(m)
@@ -107,18 +107,28 @@ class Matcher:
         """Advance every path by one posture; each gesture's best score at its `fires_at` point."""
         self._recent = (self._recent + [posture])[-3:]
         posture = motion(np.array(self._recent))[-1]
-        d = np.sqrt(np.sum(self.weights * (self.templates - posture) ** 2, axis=2))
+        diff = self.templates - posture.astype(np.float32)
+        d = np.sqrt(np.einsum("mkc,mkc->mk", diff * self.weights, diff))
         d[~self.valid] = np.inf
         cost, steps = self.cost, self.steps
-        shifted1 = np.concatenate([np.zeros((len(cost), 1)), cost[:, :-1]], axis=1)  # fresh starts at 0
-        steps1 = np.concatenate([np.zeros((len(cost), 1)), steps[:, :-1]], axis=1)
-        shifted2 = np.concatenate([np.full((len(cost), 2), np.inf), cost[:, :-2]], axis=1)
-        steps2 = np.concatenate([np.zeros((len(cost), 2)), steps[:, :-2]], axis=1)
-        stay = np.where(steps + 1 <= self.band, cost, np.inf)
-        options = np.stack([shifted1 + d, shifted2 + SKIP_WEIGHT * d, stay + d])
-        best = np.argmin(options, axis=0)
-        self.cost = np.take_along_axis(options, best[None], axis=0)[0]
-        self.steps = np.choose(best, [steps1 + 1, steps2 + SKIP_WEIGHT, steps + 1])
+        best = np.empty_like(cost)  # one step along the template (a fresh start at its first posture)
+        best[:, 0] = d[:, 0]
+        best[:, 1:] = cost[:, :-1] + d[:, 1:]
+        new_steps = np.empty_like(steps)
+        new_steps[:, 0] = 1.0
+        new_steps[:, 1:] = steps[:, :-1] + 1.0
+        skip = np.full_like(cost, np.inf)  # two steps along it
+        skip[:, 2:] = cost[:, :-2] + SKIP_WEIGHT * d[:, 2:]
+        skip_steps = np.zeros_like(steps)
+        skip_steps[:, 2:] = steps[:, :-2] + SKIP_WEIGHT
+        better = skip < best
+        best = np.where(better, skip, best)
+        new_steps = np.where(better, skip_steps, new_steps)
+        stay = np.where(steps + 1 <= self.band, cost + d, np.inf)  # the template waits
+        better = stay < best
+        best = np.where(better, stay, best)
+        new_steps = np.where(better, steps + 1.0, new_steps)
+        self.cost, self.steps = best, new_steps
         score = self.cost[self._rows, self.end] / self.steps[self._rows, self.end]
         per = np.full(len(self.gestures), np.inf)
         np.minimum.at(per, self.owner, score)
