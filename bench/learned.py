@@ -11,7 +11,7 @@ learned gesture other than its own completes.
 Also, teacher side (how the design parameters were chosen, never on p04-p10): leave one teacher
 out, learn from the other two, score the third the same way (in process, the same functions).
 And cost: per-frame time of recognising 10 learned gestures (the six and four more taught from
-the same takes under other names) on one core, and the time `issv learn` takes.
+the same takes under other names), CPU time on one core, and the time `issv learn` takes.
 
 Needs ISSV_DATA (the folder holding msrc12-dev); without it says so and exits.
 """

@@ -21,7 +21,7 @@ from host.learned.segment import find_repetitions
 
 FIRES_AT = 0.5  # a learned gesture completes half way through (the moment it is unmistakable)
 THRESHOLD_QUANTILE = 0.9
-THRESHOLD_FACTOR = 1.3
+THRESHOLD_FACTOR = 1.0
 THRESHOLD_FLOOR = 0.15  # body units: repetitions alike to the millimetre still leave room for sensor noise
 BOTH_HANDS = 0.4  # the quieter hand counts as used if it moves this share of the busier one
 IDLE_WEIGHT = 0.3  # an unused hand still counts this much: the rest of the body should look alike
