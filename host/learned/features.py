@@ -23,10 +23,9 @@ from host.model import Hand, Side
 RATE_HZ = 15.0  # postures per second, templates and live streams alike
 DEFAULT_SIZE_MM = 520.0  # head-torso distance of an adult, used until a head is seen
 HAND_HOLD_S = 0.5  # a hand unseen for longer hangs at rest (a depth engine reports only hands held out)
-REST_PLACE = {Side.LEFT: (-0.3, -0.6, -0.1), Side.RIGHT: (0.3, -0.6, -0.1)}  # hands at rest, body units
+REST_PLACE = {Side.LEFT: (-0.3, -0.6, -0.25), Side.RIGHT: (0.3, -0.6, -0.25)}  # hands at rest, body units
 _SIZE_WINDOW = 60  # head-torso distances in the running median (two seconds at 30 Hz)
 _REST_WINDOW_S = 4.0  # without a torso: how long the hands' resting place is looked for
-_REST_BELOW_TORSO = 0.6  # hands at rest hang this many body sizes below the torso (Kinect spine joint)
 
 
 @dataclass
@@ -116,7 +115,7 @@ class PostureStream:
         return np.concatenate(rel)
 
     def _estimated_torso(self, t: float, seen: dict[Side, np.ndarray], size: float) -> np.ndarray:
-        """No skeleton: the hands' lowest resting place of the last seconds, lifted by a body size
+        """No skeleton: where the torso is when the hands' lowest place of the last seconds is rest
         (a hand unseen is taken to hang at rest, where the seen one's partner would)."""
         if len(seen) == 2:
             middle = (seen[Side.LEFT] + seen[Side.RIGHT]) / 2
@@ -129,7 +128,7 @@ class PostureStream:
         places = np.array([p for _, p in self._low])
         rest = places[np.argmin(places[:, 1])] if len(places) < 5 else places[places[:, 1] <= np.percentile(
             places[:, 1], 20)].mean(axis=0)
-        return rest + np.array([0.0, _REST_BELOW_TORSO * size, 0.0])
+        return rest - np.array([0.0, REST_PLACE[Side.LEFT][1], REST_PLACE[Side.LEFT][2]]) * size
 
 
 def postures(frames: Iterable[tuple[float, Sequence[Hand], Mapping]], mirrored: bool) -> tuple[np.ndarray, np.ndarray]:

@@ -59,9 +59,11 @@ class Performer:
                 t += 1.0 / self.fps
         return out, middles
 
-    def write(self, path: Path, motion, repetitions: int, **kw) -> list[float]:
+    def write(self, path: Path, motion, repetitions: int, body: bool = True, **kw) -> list[float]:
+        """The CSV; body=False leaves out the torso and head rows (a tracker that sees hands only)."""
         frames, middles = self.frames(motion, repetitions, **kw)
         lines = ["t,hand,x,y,z"] + [f"{t:.4f},{n},{p[0]:.1f},{p[1]:.1f},{p[2]:.1f}"
-                                    for t, points in frames for n, p in points.items()]
+                                    for t, points in frames for n, p in points.items()
+                                    if body or n in ("left", "right")]
         path.write_text("\n".join(lines) + "\n")
         return middles
