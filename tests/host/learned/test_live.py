@@ -44,3 +44,15 @@ def test_live_teaching_takes_the_repetitions_from_the_profile(tmp_path, capsys):
     assert "repetition 1/2: stand still" in said and "repetition 2/2: go!" in said
     learned = gesture_file.load(out)
     assert learned.name == "up" and len(learned.repetitions) == 2 and learned.hands == "right"
+
+
+def test_a_recording_is_an_example_too(tmp_path, capsys):
+    (tmp_path / "steps.toml").write_text(CHOREOGRAPHY)
+    (tmp_path / "show.toml").write_text(PROFILE)
+    recording = tmp_path / "show.mcap"
+    assert issv(["record", str(tmp_path / "show.toml"), "-o", str(recording), "--fast"]) == 0
+    capsys.readouterr()
+    out = tmp_path / "up.gesture.json"
+    assert issv(["learn", "up", f"{recording}@0-20", "-o", str(out)]) == 0
+    assert f"{recording}@0-20: 2 repetitions found" in capsys.readouterr().out
+    assert gesture_file.load(out).hands == "right"
