@@ -26,8 +26,8 @@ THRESHOLD_FLOOR = 0.15  # body units: repetitions alike to the millimetre still 
 BOTH_HANDS = 0.4  # the quieter hand counts as used if it moves this share of the busier one
 IDLE_WEIGHT = 0.3  # an unused hand still counts this much: the rest of the body should look alike
 OUTLIER = 2.0  # a repetition scoring this many times the median is reported as far off
-MAX_REPETITIONS = 40
-SHORTEST, LONGEST = 0.6, 1.8  # a repetition outside this share of the typical length is not learned  # more teach nothing new and cost time at every frame
+MAX_REPETITIONS = 40  # more teach little that is new and cost time at every frame (10 gestures: 0.3 ms)
+SHORTEST, LONGEST = 0.6, 1.8  # a repetition outside this share of the typical length is not learned
 
 
 @dataclass
