@@ -32,7 +32,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", type=Path, help="where to write the gesture (default: NAME.gesture.json)")
     p.add_argument("--backend", default="openiss", help="backend that tracks hands in .npz clips (default: openiss)")
     p.add_argument("--show", type=Path, metavar="FILE", help="print what FILE learned and plot its repetitions (PNG)")
-    p.add_argument("--profile", type=Path, help="teach live: take the repetitions from this profile's source and backend")
+    p.add_argument("--profile", type=Path,
+                   help="teach live: take the repetitions from this profile's source and backend")
     p.add_argument("--repetitions", type=int, default=5, help="live: how many repetitions to take (default: 5)")
     p.add_argument("--seconds", type=float, default=3.0, help="live: seconds for each repetition (default: 3)")
 
@@ -48,7 +49,8 @@ def describe(g: LearnedGesture) -> str:
         lines.append(f"  consistency: each repetition's distance to the others, median {np.median(scores):.3f}, "
                      f"worst {max(scores):.3f} (body units)")
     for r in g.repetitions:
-        lines.append(f"    {r.source} {r.start:.2f}-{r.end:.2f} s" + (f"  {r.score:.3f}" if r.score is not None else ""))
+        score = f"  {r.score:.3f}" if r.score is not None else ""
+        lines.append(f"    {r.source} {r.start:.2f}-{r.end:.2f} s{score}")
     return "\n".join(lines)
 
 

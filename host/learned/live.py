@@ -65,7 +65,8 @@ def teach(backend: Backend, count: int, seconds: float, out: TextIO = sys.stdout
                                 "and still before and after the gesture?")
             continue
         tries = 0
-        if ask is not None and ask(f"  {found[0].duration:.1f} s. Enter keeps it, r redoes it: ").strip().lower()[:1] == "r":
+        answer = ask(f"  {found[0].duration:.1f} s. Enter keeps it, r redoes it: ") if ask is not None else ""
+        if answer.strip().lower().startswith("r"):
             continue
         takes.append(take)
     return takes

@@ -5,25 +5,14 @@ from __future__ import annotations
 from host.cli import main as issv
 from host.learned import gesture_file
 
-CHOREOGRAPHY = """
-[[steps]]
-action = "idle"
-duration = 2.3
-[[steps]]
-action = "swipe_up"
-hand = "right"
-duration = 1.75
-[[steps]]
-action = "idle"
-duration = 3.75
-[[steps]]
-action = "swipe_up"
-hand = "right"
-duration = 1.75
-[[steps]]
-action = "idle"
-duration = 3.5
-"""
+
+def _step(action: str, duration: float, hand: str | None = None) -> str:
+    return f'[[steps]]\naction = "{action}"\nduration = {duration}\n' + (f'hand = "{hand}"\n' if hand else "")
+
+
+# rest, a swipe up, rest, a swipe up, rest: timed so each lands in one live take (2 s count-in, 3 s to perform)
+CHOREOGRAPHY = "".join([_step("idle", 2.3), _step("swipe_up", 1.75, "right"), _step("idle", 3.75),
+                        _step("swipe_up", 1.75, "right"), _step("idle", 3.5)])
 
 PROFILE = """
 [source]
