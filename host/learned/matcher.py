@@ -10,8 +10,10 @@ best template has been matched up to its `fires_at` point with a score below the
 threshold, at the instant that score is lowest (one posture later). All templates of all
 gestures sit in one array, so a frame costs a handful of numpy operations whatever their number.
 
-One motion is one gesture: when a gesture completes, every path under way is dropped, and the
-gesture rests for most of its remaining length so the rest of the motion cannot fire it again.
+Gestures are matched independently: when one completes, its own paths are dropped and it rests
+for most of its remaining length (the rest of the motion cannot fire it again); the others go on
+(dropping every gesture's paths let a gesture that completes early in a motion hide the right
+one: 0.45 mean recall instead of 0.67, leave-one-teacher-out on p01-p03, same false fires).
 """
 from __future__ import annotations
 
@@ -144,7 +146,7 @@ class Matcher:
         if not ready.any():
             return []
         gi = int(np.argmin(np.where(ready, last, np.inf)))
-        self.cost[:] = np.inf
-        self._last[:] = np.inf
+        self.cost[self.owner == gi] = np.inf  # only this gesture starts again: another may still complete
+        self._last[gi] = np.inf
         self.resting[gi] = self.rest_ticks[gi]
         return [Match(gi, float(last[gi]), True)]
