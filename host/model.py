@@ -46,17 +46,18 @@ class GestureType(str, Enum):
     SWIPE_RIGHT = "SWIPE_RIGHT"
     SWIPE_UP = "SWIPE_UP"
     SWIPE_DOWN = "SWIPE_DOWN"
+    LEARNED = "learned"  # taught by example (host/learned): its name is the Gesture's `label`
 
     @property
     def canonical(self) -> str:
         """The middleware-independent name (`wave` for WAVE and WAVING, `click` for CLICK and PUSH)."""
-        return _CANONICAL[self]
+        return _CANONICAL.get(self, self.value)
 
     @classmethod
     def from_canonical(cls, name: str) -> "GestureType":
         """The first dictionary entry with this canonical name (WAVE for `wave`, CLICK for `click`)."""
         for member in cls:
-            if member.canonical == name:
+            if member.canonical == name and member is not cls.LEARNED:
                 return member
         raise ValueError(f"unknown gesture {name!r}; expected one of {', '.join(CANONICAL_GESTURES)}")
 
@@ -257,20 +258,25 @@ class Gesture:
     confidence: float = 1.0
     timestamp: float = 0.0
     user_id: int = 1
+    label: str = ""  # a learned gesture's name (type LEARNED); empty for the built-in dictionary
+    hands: tuple[int, ...] = ()  # a learned gesture made with both hands: their ids
 
     def __post_init__(self) -> None:
         _plain_numbers(self)
+        object.__setattr__(self, "hands", tuple(int(h) for h in self.hands))
 
     @property
     def name(self) -> str:
-        """Canonical name: an effect that listens for `wave` works on every backend."""
-        return self.type.canonical
+        """Canonical name: an effect that listens for `wave` works on every backend. A learned
+        gesture is called what it was taught as."""
+        return self.label if self.type is GestureType.LEARNED and self.label else self.type.canonical
 
     def to_json(self) -> dict:
+        extra = {"hands": list(self.hands)} if self.hands else {}
         return {"t": round(self.timestamp, 4), "type": "gesture", "name": self.name,
                 "native": self.type.value, "state": self.state.value, "hand": self.hand_id,
                 "side": self.side.value, "position": [round(c, 1) for c in self.position],
-                "confidence": round(self.confidence, 3)}
+                "confidence": round(self.confidence, 3), **extra}
 
 
 #: The joints a user's body may have, named from the performer's point of view (OSCeleton's

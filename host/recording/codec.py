@@ -181,12 +181,15 @@ def hand_from_json(d: dict) -> Hand:
 def gesture_to_json(g: Gesture, seq: int) -> dict:
     return {"seq": seq, "t": g.timestamp, "type": "gesture", "name": g.name, "native": g.type.value,
             "state": g.state.value, "hand": g.hand_id, "side": g.side.value, "position": list(g.position),
-            "confidence": g.confidence, "user_id": g.user_id}
+            "confidence": g.confidence, "user_id": g.user_id, **({"hands": list(g.hands)} if g.hands else {})}
 
 
 def gesture_from_json(d: dict) -> Gesture:
-    return Gesture(GestureType(d["native"]), GestureState(d["state"]), _vec(d["position"]), int(d["hand"]),
-                   Side(d["side"]), float(d["confidence"]), float(d["t"]), int(d.get("user_id", 1)))
+    kind = GestureType(d["native"])
+    return Gesture(kind, GestureState(d["state"]), _vec(d["position"]), int(d["hand"]),
+                   Side(d["side"]), float(d["confidence"]), float(d["t"]), int(d.get("user_id", 1)),
+                   label=str(d["name"]) if kind is GestureType.LEARNED else "",
+                   hands=tuple(int(h) for h in d.get("hands", ())))
 
 
 def hands_to_json(frame: Frame) -> dict:
