@@ -31,7 +31,8 @@ CORE = {
     "name": "the show's name (shown nowhere yet; for you)",
     "description": "what the show is, for the next person who opens the file",
     "source": 'where depth comes from: a name (`source = "synthetic"`) or a table with `name` and its options',
-    "backend": "what finds hands and gestures: a name or a table with `name` and its options",
+    "backend": "what finds hands and gestures: a name or a table with `name` and its options; `learned = "
+               "[\"file\", {file = \"...\", threshold = 0.3}]` adds learned gestures (docs/learned-gestures.md)",
     "effects": "the effect stack, composited in this order: `[[effects]]` tables with `name` and options",
     "output": "where the show goes (`[output]`)",
     "blend": "how this effect's layer is combined with the layers under it",

@@ -1,4 +1,5 @@
 """Registers the built-in effects, exactly as a third-party plugin would."""
+from effects.audio import Audio
 from effects.console import ConsoleEffect
 from effects.depth_view import DepthView
 from effects.digieviss import DigiEVISS
@@ -15,6 +16,7 @@ from host import hookimpl
 @hookimpl
 def register_effects(register):
     register(ConsoleEffect)
+    register(Audio)
     register(OscEffect)
     for effect in (DepthView, HandTrails, StarTrail, GestureBurst, Silhouette, Isf):
         register(effect)
@@ -24,3 +26,5 @@ def register_effects(register):
 @hookimpl
 def register_commands(register):
     register(osc_schema)  # issv osc-schema: the OSC address schemes
+    from effects.isf import command
+    register(command)

@@ -1,10 +1,12 @@
 """issv host: the frozen core. Plugins import what they need from here, and from the few public
 host modules listed in PUBLIC_MODULES, nowhere else in host (docs/architecture.md, Plugins and
 the import rule; tests/test_imports.py checks it)."""
-from host.contracts import Backend, Effect, NoOptions, Plugin, PluginUnavailable, Recognizer, Source, Stage
+from host.contracts import (Backend, DeviceInfo, Effect, NoOptions, Plugin, PluginUnavailable, Recognizer,
+                            Source, Stage)
 from host.hookspecs import hookimpl
 from host.model import (
     CANONICAL_GESTURES,
+    ColourFrame,
     DepthFrame,
     Frame,
     Gesture,
@@ -13,9 +15,12 @@ from host.model import (
     Hand,
     HandState,
     Intrinsics,
+    JOINTS,
+    Joint,
     Side,
     Truth,
     TruthGesture,
+    User,
     Vec3,
 )
 from host.callbacks import SimpleOpenNIEffect
@@ -31,11 +36,12 @@ PUBLIC_MODULES = (
     "host.compression",  # zstd contexts, one per thread
     "host.devices",  # the OpenNI2 runtime, shared by what opens OpenNI2 devices and files
     "host.app",  # for plugin commands: a profile's source and backend through the frame loop
+    "host.audio",  # the show's sound (level, spectrum, samples) for audio-reactive effects
 )
 
 __all__ = [
-    "Backend", "CANONICAL_GESTURES", "DepthFrame", "Effect", "Frame", "Gesture", "GestureState",
-    "GestureType", "Hand", "HandState", "Intrinsics", "NoOptions", "PUBLIC_MODULES", "Plugin",
-    "PluginUnavailable", "Recognizer", "SimpleOpenNIEffect", "Side", "Source", "Stage", "Truth",
-    "TruthGesture", "Vec3", "hookimpl", "profile_source", "__version__",
+    "Backend", "CANONICAL_GESTURES", "ColourFrame", "DepthFrame", "DeviceInfo", "Effect", "Frame", "Gesture",
+    "GestureState", "GestureType", "Hand", "HandState", "Intrinsics", "JOINTS", "Joint", "NoOptions", "PUBLIC_MODULES",
+    "Plugin", "PluginUnavailable", "Recognizer", "SimpleOpenNIEffect", "Side", "Source", "Stage", "Truth",
+    "TruthGesture", "User", "Vec3", "hookimpl", "profile_source", "__version__",
 ]

@@ -2,6 +2,8 @@
 from __future__ import annotations
 
 from host.contracts import Backend, Source, Stage
+from host.learned.backend import LearnedBackend
+from host.learned.recognizer import LearnedRecognizer
 from host.loop import EffectSlot, PacedSource
 from host.profile import Profile
 
@@ -11,7 +13,10 @@ def make_backend(profile: Profile, realtime: bool = True) -> Backend:
     source: Source | PacedSource | None = None
     if profile.backend.cls.needs_source and profile.source is not None:
         source = PacedSource(profile.source.cls(profile.source.options), realtime)
-    return profile.backend.cls(source, profile.backend.options)
+    backend = profile.backend.cls(source, profile.backend.options)
+    if profile.learned:  # learned gestures: recognised by the host on this backend's hands
+        return LearnedBackend(backend, LearnedRecognizer(profile.learned))
+    return backend
 
 
 def make_effects(profile: Profile) -> list[EffectSlot]:

@@ -45,6 +45,17 @@ class Plugin:
         return None
 
 
+@dataclass(frozen=True)
+class DeviceInfo:
+    """A camera a source can open, as `issv list` names it; `problem` says why it cannot be opened here."""
+
+    model: str
+    serial: str = ""
+    firmware: str = ""
+    modes: tuple[str, ...] = ()
+    problem: str | None = None
+
+
 class Source(Plugin):
     """Where depth comes from. `read()` returns the next frame, or None at the end of the stream.
 
@@ -54,12 +65,23 @@ class Source(Plugin):
 
     fps: float = 30.0
     live: ClassVar[bool] = False
+    #: what `read()` gives: "depth" (DepthFrame, millimetres) or "colour" (an RGB camera's frames)
+    frames: ClassVar[str] = "depth"
     intrinsics: Intrinsics
 
     @classmethod
     def for_recording(cls, path: Path, seek: float = 0.0) -> "Source | None":
         """Capability: a source of an issv recording's depth images from `seek` seconds on, looping
         off (`issv compare` feeds every backend from it), or None when this source cannot."""
+        return None
+
+    @classmethod
+    def devices(cls) -> list[DeviceInfo] | None:
+        """Cameras connected now (an empty list: none); None for sources that read files."""
+        return None
+
+    def health(self) -> str | None:
+        """One line for the HUD from a live source: its device's own rate, dropped frames, state."""
         return None
 
     def open(self) -> None:
@@ -101,6 +123,9 @@ class Backend(Plugin):
     #: (`options`: its validated Options, None for the defaults); `issv gestures` runs it on
     #: hand-trajectory files. None: it has none.
     recognizer: ClassVar[Callable[..., Recognizer] | None] = None
+    #: the frames it tracks, as a Source's `frames` says ("depth" or "colour"); a profile pairing
+    #: it with a source of the other kind is refused. Unused when `needs_source` is False.
+    takes: ClassVar[str] = "depth"
 
     def __init__(self, source: Source | None = None, options: BaseModel | None = None) -> None:
         super().__init__(options)

@@ -20,7 +20,7 @@ import pluggy
 
 from host.contracts import Backend, Effect, Source, Stage
 from host.errors import UserError
-from host.metrics import Metrics
+from host.metrics import Metrics, input_of
 from host.model import DepthFrame, Frame, Gesture
 from host.plugins import Lifecycle
 
@@ -129,7 +129,8 @@ class Show:
         self.limits = limits
         self.renderer = renderer
         self.status = status
-        self.metrics = Metrics(backend.name, getattr(backend.source, "fps", 0.0) if backend.source else 0.0)
+        self.metrics = Metrics(backend.name, getattr(backend.source, "fps", 0.0) if backend.source else 0.0,
+                               input=input_of(backend))
         stage.metrics = self.metrics
         self.latest = Latest()
         self.gestures = GestureQueue()
@@ -255,6 +256,7 @@ class Show:
     def _play(self) -> None:
         if self.backend.source is not None:
             self.metrics.source_fps = float(self.backend.source.fps)
+            self.metrics.source_health = self.backend.source.health
         self.backend.start_hand_tracking()
         self.backend.start_gesture_detection()
         if self.notify is not None:

@@ -5,10 +5,23 @@ import time
 from array import array
 from collections import Counter, deque
 from dataclasses import dataclass, field
+from typing import Any, Callable
 
 import numpy as np
 
 from host.model import Frame, Gesture, GestureState
+
+
+def input_of(backend: Any) -> Callable[[], str]:
+    """Where a backend's data comes from, said anew each time (the HUD and the status line): the
+    backend's own `input_label()` if it has one (an OSC port and its message rate), else its
+    source and the source's rate."""
+    own = getattr(backend, "input_label", None)
+    if callable(own):
+        return own
+    source = getattr(backend, "source", None)
+    text = f"source {source.name} {source.fps:.0f} Hz" if source is not None else "its own frames"
+    return lambda: text
 
 
 def _rate(count: int, first: float | None, last: float | None) -> float:
@@ -40,6 +53,19 @@ class Metrics:
     _recent_frames: deque = field(default_factory=lambda: deque(maxlen=64))
     _recent_renders: deque = field(default_factory=lambda: deque(maxlen=128))
     last_gestures: deque = field(default_factory=lambda: deque(maxlen=5))
+    source_health: Callable[[], str | None] | None = None  # a live source's own rate, drops, state
+
+    def source_line(self) -> str:
+        """What the source says about itself (a camera: its rate, dropped frames, whether it is there)."""
+        said = self.source_health() if self.source_health is not None else None
+        return said or f"source {self.source_fps:5.1f} Hz"
+
+    input: Callable[[], str] | None = field(default=None, repr=False)  # see input_of()
+
+    @property
+    def input_label(self) -> str:
+        """Where the data comes from and at what rate, e.g. `source synthetic 30 Hz`."""
+        return self.input() if self.input is not None else ""
 
     def sensor_frame(self, frame: Frame) -> None:
         now = time.time()

@@ -10,7 +10,7 @@ import time
 from dataclasses import dataclass, field
 from enum import Enum
 from functools import cached_property
-from typing import Callable
+from typing import Callable, Mapping
 
 import numpy as np
 
@@ -46,17 +46,18 @@ class GestureType(str, Enum):
     SWIPE_RIGHT = "SWIPE_RIGHT"
     SWIPE_UP = "SWIPE_UP"
     SWIPE_DOWN = "SWIPE_DOWN"
+    LEARNED = "learned"  # taught by example (host/learned): its name is the Gesture's `label`
 
     @property
     def canonical(self) -> str:
         """The middleware-independent name (`wave` for WAVE and WAVING, `click` for CLICK and PUSH)."""
-        return _CANONICAL[self]
+        return _CANONICAL.get(self, self.value)
 
     @classmethod
     def from_canonical(cls, name: str) -> "GestureType":
         """The first dictionary entry with this canonical name (WAVE for `wave`, CLICK for `click`)."""
         for member in cls:
-            if member.canonical == name:
+            if member.canonical == name and member is not cls.LEARNED:
                 return member
         raise ValueError(f"unknown gesture {name!r}; expected one of {', '.join(CANONICAL_GESTURES)}")
 
@@ -136,6 +137,15 @@ class Truth:
     body: dict[str, Vec3] = field(default_factory=dict)
 
 
+def _owned(array: np.ndarray) -> np.ndarray:
+    """The array itself if it is a read-only, contiguous array of its own, else such a copy: a
+    frame's pixels can then cross threads without locks."""
+    if array.flags.writeable or array.base is not None or not array.flags.c_contiguous:
+        array = np.ascontiguousarray(array).copy()
+        array.flags.writeable = False
+    return array
+
+
 @dataclass(frozen=True, eq=False)
 class DepthFrame:
     """One depth image: uint16 millimetres, 0 = no reading. Owns a read-only copy of its array.
@@ -156,10 +166,7 @@ class DepthFrame:
         data = self.data
         if data.dtype != np.uint16 or data.ndim != 2:
             raise ValueError(f"DepthFrame.data must be a 2-D uint16 array, got {data.dtype} {data.shape}")
-        if data.flags.writeable or data.base is not None or not data.flags.c_contiguous:
-            data = np.ascontiguousarray(data).copy()
-            data.flags.writeable = False
-            object.__setattr__(self, "data", data)
+        object.__setattr__(self, "data", _owned(data))
 
     @property
     def width(self) -> int:
@@ -174,6 +181,34 @@ class DepthFrame:
 
     def depth_to_world(self, u: float, v: float, z: float) -> Vec3:
         return self.intrinsics.depth_to_world(u, v, z)
+
+
+@dataclass(frozen=True, eq=False)
+class ColourFrame:
+    """One colour image from an RGB camera or a video: uint8 (H, W, 3), RGB order. Owns a
+    read-only copy of its array. `intrinsics` come from the camera's field of view; `mirrored`
+    says whether the image is flipped as a mirror (a selfie view). Times as DepthFrame's."""
+
+    rgb: np.ndarray
+    intrinsics: Intrinsics
+    frame_id: int = 0
+    timestamp: float = 0.0
+    capture_time: float = field(default_factory=time.time)
+    mirrored: bool = False
+
+    def __post_init__(self) -> None:
+        rgb = self.rgb
+        if rgb.dtype != np.uint8 or rgb.ndim != 3 or rgb.shape[2] != 3:
+            raise ValueError(f"ColourFrame.rgb must be a (H, W, 3) uint8 array, got {rgb.dtype} {rgb.shape}")
+        object.__setattr__(self, "rgb", _owned(rgb))
+
+    @property
+    def width(self) -> int:
+        return int(self.rgb.shape[1])
+
+    @property
+    def height(self) -> int:
+        return int(self.rgb.shape[0])
 
 
 def _plain_numbers(event: "Hand | Gesture") -> None:
@@ -193,6 +228,9 @@ class Hand:
     side: Side = Side.UNKNOWN
     user_id: int = 1
     confidence: float = 1.0
+    #: whether the hand sticks out of the body (None: the backend does not say). Backends that
+    #: report users report both hands all the time, resting ones with extended = False.
+    extended: bool | None = None
 
     def __post_init__(self) -> None:
         _plain_numbers(self)
@@ -219,25 +257,94 @@ class Gesture:
     side: Side = Side.UNKNOWN
     confidence: float = 1.0
     timestamp: float = 0.0
+    user_id: int = 1
+    label: str = ""  # a learned gesture's name (type LEARNED); empty for the built-in dictionary
+    hands: tuple[int, ...] = ()  # a learned gesture made with both hands: their ids
 
     def __post_init__(self) -> None:
         _plain_numbers(self)
+        object.__setattr__(self, "hands", tuple(int(h) for h in self.hands))
 
     @property
     def name(self) -> str:
-        """Canonical name: an effect that listens for `wave` works on every backend."""
-        return self.type.canonical
+        """Canonical name: an effect that listens for `wave` works on every backend. A learned
+        gesture is called what it was taught as."""
+        return self.label if self.type is GestureType.LEARNED and self.label else self.type.canonical
 
     def to_json(self) -> dict:
+        extra = {"hands": list(self.hands)} if self.hands else {}
         return {"t": round(self.timestamp, 4), "type": "gesture", "name": self.name,
                 "native": self.type.value, "state": self.state.value, "hand": self.hand_id,
                 "side": self.side.value, "position": [round(c, 1) for c in self.position],
-                "confidence": round(self.confidence, 3)}
+                "confidence": round(self.confidence, 3), **extra}
+
+
+#: The joints a user's body may have, named from the performer's point of view (OSCeleton's
+#: fifteen, spelled out). A backend reports those it has; `torso` and `head` feed the recogniser.
+JOINTS: tuple[str, ...] = (
+    "head", "neck", "torso",
+    "left_shoulder", "left_elbow", "left_hand", "right_shoulder", "right_elbow", "right_hand",
+    "left_hip", "left_knee", "left_foot", "right_hip", "right_knee", "right_foot",
+)
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One body joint: millimetres (camera coordinates) and how sure the tracker is, 0..1."""
+
+    position: Vec3
+    confidence: float = 1.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "position", tuple(float(c) for c in self.position))
+        object.__setattr__(self, "confidence", float(self.confidence))
+
+
+@dataclass(frozen=True)
+class User:
+    """One tracked person (NiTE's and Nuitrack's user, an OSC bridge's skeleton).
+
+    `id` is stable while the person is tracked; `state` follows the hands' lifecycle: NEW on the
+    first frame, TRACKING, then LOST once (after the backend's timeout) with the last body.
+    `joints` maps names of JOINTS to Joint; `center_of_mass` is None when the backend has no
+    estimate (the mean of the torso and hips is a fair one for a skeleton).
+    """
+
+    id: int
+    state: HandState
+    joints: Mapping[str, Joint] = field(default_factory=dict)
+    center_of_mass: Vec3 | None = None
+
+    @property
+    def in_view(self) -> bool:
+        return self.state not in (HandState.LOST, HandState.ABSENT)
+
+    def body_points(self) -> dict[str, Vec3]:
+        """The body reference points the gesture recogniser takes (`torso`, `head`), if known."""
+        return {name: self.joints[name].position for name in ("torso", "head") if name in self.joints}
+
+    def to_json(self) -> dict:
+        return {"id": self.id, "state": self.state.value,
+                "center_of_mass": None if self.center_of_mass is None else list(self.center_of_mass),
+                "joints": {name: {"position": list(j.position), "confidence": j.confidence}
+                           for name, j in self.joints.items()}}
+
+    @classmethod
+    def from_json(cls, doc: dict) -> "User":
+        com = doc.get("center_of_mass")
+        return cls(int(doc["id"]), HandState(doc["state"]),
+                   {str(name): Joint(tuple(j["position"]), float(j.get("confidence", 1.0)))
+                    for name, j in doc.get("joints", {}).items()},
+                   None if com is None else tuple(float(c) for c in com))
 
 
 @dataclass(frozen=True)
 class Frame:
-    """One sensor instant as a backend reports it."""
+    """One sensor instant as a backend reports it.
+
+    `users` are the people the backend tracks (empty for backends that know only hands);
+    `time` is the source's clock in seconds for frames without a depth image (an OSC tracker).
+    """
 
     seq: int
     capture_time: float
@@ -246,6 +353,8 @@ class Frame:
     gestures: tuple[Gesture, ...] = ()
     backend: str = ""
     make_user_mask: Callable[[], np.ndarray | None] | None = field(default=None, repr=False, compare=False)
+    users: tuple[User, ...] = ()
+    time: float = 0.0
 
     @cached_property
     def user_mask(self) -> np.ndarray | None:
@@ -255,7 +364,7 @@ class Frame:
 
     @property
     def timestamp(self) -> float:
-        return self.depth.timestamp if self.depth is not None else 0.0
+        return self.depth.timestamp if self.depth is not None else self.time
 
     def hands_json(self) -> dict:
         """The `hands` event line of `issv track`."""

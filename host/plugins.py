@@ -43,7 +43,12 @@ class Registered:
 
     def to_json(self) -> dict:
         reason = self.availability()
-        return {"name": self.name, "available": reason is None, "reason": reason, "plugin": self.plugin}
+        doc = {"name": self.name, "available": reason is None, "reason": reason, "plugin": self.plugin}
+        if hasattr(self.cls, "frames"):  # a source: the frames it gives
+            doc["frames"] = self.cls.frames
+        elif hasattr(self.cls, "needs_source"):  # a backend: the frames it tracks, if it takes a source
+            doc["frames"] = self.cls.takes if self.cls.needs_source else None
+        return doc
 
 
 @dataclass(frozen=True)

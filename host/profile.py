@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import json
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
@@ -26,6 +26,21 @@ class PluginRef(BaseModel):
     @property
     def options(self) -> dict[str, Any]:
         return dict(self.model_extra or {})
+
+
+class LearnedRef(BaseModel):
+    """A learned gesture in `[backend] learned`: a file, and optionally its own threshold."""
+
+    model_config = ConfigDict(extra="forbid")
+    file: str
+    threshold: float | None = Field(None, gt=0)
+
+
+class BackendRef(PluginRef):
+    """The backend; `learned` lists learned-gesture files (relative to the profile) the host
+    recognises on its hands: `"file"` or `{file = "...", threshold = 0.3}`."""
+
+    learned: list[str | LearnedRef] = []
 
 
 class EffectRef(PluginRef):
@@ -60,7 +75,7 @@ class ProfileModel(BaseModel):
     name: str = ""
     description: str = ""
     source: PluginRef = PluginRef(name="synthetic")
-    backend: PluginRef = PluginRef(name="openiss")
+    backend: BackendRef = BackendRef(name="openiss")
     effects: list[EffectRef] = []
     output: Output = Output()
 
@@ -85,6 +100,7 @@ class Profile:
     backend: Resolved
     effects: list[Resolved]
     warnings: list[str]
+    learned: list[Any] = field(default_factory=list)  # LearnedGesture, thresholds already overridden
 
 
 def _path(loc: tuple) -> str:
@@ -162,15 +178,42 @@ def parse(text: str, file: str, base_dir: Path, registry: Registry | None = None
     source = None
     if backend is None or backend.cls.needs_source:
         source = _resolve(file, registry, "sources", model.source, ("source",), context, problems, warnings)
+    if backend is not None and source is not None and source.cls.frames != backend.cls.takes:
+        problems.append(f"{file}: [backend] {backend.ref.name!r} tracks {backend.cls.takes} frames, but [source] "
+                        f"{source.ref.name!r} gives {source.cls.frames} frames: pick a source with "
+                        f"{backend.cls.takes} frames or a backend that takes {source.cls.frames} ones "
+                        f"(`issv list` says which is which)")
+    elif backend is not None and not backend.cls.needs_source and "source" in raw:
+        warnings.append(f"{file}: [source] {model.source.name!r} is not used: backend {backend.ref.name!r} "
+                        f"makes its own frames (it takes no source)")
     effects = []
     for i, ref in enumerate(model.effects):
         if ref.enabled:
             resolved = _resolve(file, registry, "effects", ref, ("effects", i), context, problems, warnings)
             if resolved is not None:
                 effects.append(resolved)
+    learned = _learned(file, model.backend, base_dir, problems)
     if problems:
         raise ProfileError(problems)
-    return Profile(Path(file), model, source, backend, effects, warnings)
+    return Profile(Path(file), model, source, backend, effects, warnings, learned)
+
+
+def _learned(file: str, ref: BackendRef, base_dir: Path, problems: list[str]) -> list[Any]:
+    """The profile's learned gestures, read now so that a bad file stops the show before it starts."""
+    from host.errors import UserError
+    from host.learned.gesture_file import load as load_gesture
+    out = []
+    for i, entry in enumerate(ref.learned):
+        entry = LearnedRef(file=entry) if isinstance(entry, str) else entry
+        try:
+            gesture = load_gesture(base_dir / entry.file)
+        except UserError as error:
+            problems.append(f"{file}: backend.learned[{i}]: {error}")
+            continue
+        if entry.threshold is not None:
+            gesture.threshold = entry.threshold
+        out.append(gesture)
+    return out
 
 
 def load(path: str | Path, registry: Registry | None = None) -> Profile:

@@ -17,9 +17,9 @@ def line(m: Metrics) -> str:
     sfps, rfps = m.live()
     lat = m.latency(recent=120)
     last = ", ".join(g.name for g in m.last_gestures) or "-"
-    return (f"[bold]{m.backend}[/]  sFPS {sfps:5.1f}  rFPS {rfps:5.1f}  eff {(sfps + rfps) / 2:5.1f}  "
+    return (f"[bold]{m.backend}[/] <- {m.input_label}  sFPS {sfps:5.1f}  rFPS {rfps:5.1f}  eff {(sfps + rfps) / 2:5.1f}  "
             f"latency p50 {lat['p50']:5.1f} ms p99 {lat['p99']:5.1f} ms  dropped {m.dropped}  "
-            f"gestures {m.gestures} (last: {last})")
+            f"gestures {m.gestures} (last: {last})  {m.source_line()}")
 
 
 class StatusLine:
@@ -58,6 +58,8 @@ def summary(m: Metrics) -> None:
     lat = d["latency_ms"]
     table.add_row("capture -> effect latency", f"p50 {lat['p50']:.2f} ms  p95 {lat['p95']:.2f} ms  p99 {lat['p99']:.2f} ms")
     table.add_row("dropped frames (newest wins)", str(d["dropped"]))
+    if m.source_health is not None and m.source_health():
+        table.add_row("source (its own report)", m.source_health())
     if m.failed:  # not in the JSON document: its keys are an interface
         table.add_row("frames the backend failed on (skipped)", str(m.failed))
     by_name = ", ".join(f"{k} {v}" for k, v in d["gestures_by_name"].items()) or "none"

@@ -558,7 +558,7 @@
       400,
       22
      ],
-     "text": "gesture: name state side hand x y z confidence"
+     "text": "gesture: name state side hand x y z confidence (name: one of the seven or a learned gesture, as taught with issv learn)"
     }
    },
    {

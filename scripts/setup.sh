@@ -7,9 +7,11 @@ cd "$(dirname "$0")/.."
 
 # Mesa EGL (headless rendering on llvmpipe), Pure Data + liblo-tools (OSC receivers in tests),
 # OpenNI2 (.oni files), ROS 1 (ROS interop), iproute2 (network namespaces in tests), Xvfb and
-# xdotool (real-window tests).
-DEBS=(libegl1 libegl-mesa0 libgl1-mesa-dri puredata-core liblo-tools libopenni2-0
-      ros-core python3-rospy python3-sensor-msgs python3-geometry-msgs iproute2 xvfb xdotool)
+# xdotool (real-window tests), libfreenect (the kinect extra builds against it; fakenect replays dumps),
+# PortAudio (sound capture, the audio extra).
+DEBS=(libegl1 libegl-mesa0 libgl1-mesa-dri puredata-core liblo-tools libopenni2-0 libportaudio2
+      ros-core python3-rospy python3-sensor-msgs python3-geometry-msgs iproute2 xvfb xdotool
+      libfreenect-dev libfreenect-bin)
 missing=()
 for pkg in "${DEBS[@]}"; do
   dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
@@ -24,9 +26,9 @@ fi
 # lets our python3 (same 3.11 minor version) import rospy. Appended to sys.path: pip packages win.
 echo /usr/lib/python3/dist-packages > "$(python3 -c 'import site; print(site.getsitepackages()[0])')/issv-debian-ros.pth"
 
-echo "setup: installing issv (pip install -e '.[test]')"
+echo "setup: installing issv (pip install -e '.[test,kinect,realsense,audio]')"
 log=$(mktemp)
-if ! python3 -m pip install -q --disable-pip-version-check --root-user-action=ignore -e '.[test]' >"$log" 2>&1; then
+if ! python3 -m pip install -q --disable-pip-version-check --root-user-action=ignore -e '.[test,kinect,realsense,audio]' >"$log" 2>&1; then
   cat "$log" >&2; echo "setup: pip install failed (above)" >&2; exit 1
 fi
 command -v pyenv >/dev/null && pyenv rehash || true

@@ -13,8 +13,9 @@ matched against the rules (rules.py):
   lost after a stroke down went back to rest (a swipe down waits while its hand is unseen).
 - WAVE: several direction reversals of horizontal strokes, each large and quick enough, with
   the hand near or above the shoulders.
-- CLICK (PUSH): a fast stroke towards the camera with the hand up, after which the hand halts
-  (stops or comes back).
+- CLICK (PUSH): a fast stroke towards the camera ending far in front of the body at chest height,
+  heading straight forward at its end (from the chest or from a hanging hand alike), after which
+  the hand halts (stops or comes back).
 - HAND_RAISE: the hand up above the head and clear of it (hands put on the head are no raise),
   then stopping: at the top of a lift, or held there.
 Distance thresholds are stated for an adult and scale with the performer's size (the torso to
@@ -384,13 +385,30 @@ class _Hand:
 
     # --- click --------------------------------------------------------------------------------
     def click_like(self, stroke: Stroke) -> bool:
+        """Fast towards the camera, ending far in front of the body at chest height or above and
+        heading straight forward at the end (judged on the stroke's core, distances for the
+        performer's size). Where the hand came from does not matter: from the chest or hanging."""
         r = self.r
         core = self.core(stroke)
-        return (stroke.direction < 0 and core.travel >= r.click_min_travel_mm
-                and core.peak_speed >= r.click_min_peak_speed_mm_s and core.dominance >= r.click_dominance
+        k = self.rec.size(stroke.start)
+        end = core.end
+        sideways = abs(float(end.p[X] - core.start.p[X]))
+        return (stroke.direction < 0 and core.travel >= r.click_min_travel_mm * k
+                and core.peak_speed >= r.click_min_peak_speed_mm_s
+                and core.travel >= r.click_dominance * sideways
+                and self.ends_forward(core, r.click_end_mm * k) >= r.click_dominance
+                and -float(end.p[Z]) >= r.click_min_reach_mm * k
+                and float(end.p[Y]) >= end.shoulder - r.click_max_below_shoulder_mm * k
                 and r.click_min_duration_s <= stroke.duration and core.duration <= r.click_max_duration_s
-                and core.lowest >= r.active_min_height_mm
                 and core.body_speed <= r.steady_body_max_vertical_speed_mm_s)
+
+    @staticmethod
+    def ends_forward(stroke: Stroke, stretch_mm: float) -> float:
+        """Over the stroke's last `stretch_mm` of forward travel: forward over sideways or vertical motion."""
+        end = stroke.end.p
+        start = next((q.p for q in reversed(stroke.samples) if q.p[Z] - end[Z] >= stretch_mm), stroke.start.p)
+        d = np.abs(end - start)
+        return float(d[Z] / max(d[X], d[Y], 1.0))
 
     def click_confidence(self, stroke: Stroke) -> float:
         r = self.r

@@ -55,7 +55,7 @@ class GestureRules(BaseModel):
         "lifting from a rest where a depth tracker could not tell it from the body, one lost at the end "
         "of a drop may be going back there")
     swipe_confirm_s: float = Field(
-        0.25, ge=0, description="after a stroke ends, how long to watch whether a comparable stroke the other "
+        0.12, ge=0, description="after a stroke ends, how long to watch whether a comparable stroke the other "
         "way follows (then the first was a wind-up, or both belong to a wave); this is the swipe's latency")
     swipe_comparable_ratio: float = Field(
         0.4, gt=0, le=1, description="a following opposite stroke with at least this share of the first's "
@@ -85,13 +85,23 @@ class GestureRules(BaseModel):
     click_min_duration_s: float = Field(
         0.1, ge=0, description="a forward jump quicker than this is a tracking glitch, not a push (a depth "
         "tracker sees a fast push only once the hand is off the chest: three frames at 30 Hz)")
-    click_max_duration_s: float = Field(0.6, gt=0, description="a slower forward motion is a reach")
+    click_max_duration_s: float = Field(
+        0.9, gt=0, description="a slower forward motion is a reach (a push begun from a hanging hand, "
+        "rising as it goes, takes up to 0.8 s)")
     click_min_peak_speed_mm_s: float = Field(700.0, gt=0, description="peak forward speed")
     click_halt_max_speed_mm_s: float = Field(
         1000.0, gt=0, description="at its furthest point the hand nearly halts (stops or comes back): "
         "its speed there falls below this (an arm uncurling down past it does not)")
     click_dominance: float = Field(
-        1.5, ge=1, description="forward travel over the largest sideways or vertical travel")
+        1.5, ge=1, description="forward travel over sideways travel; and over the last `click_end_mm` "
+        "the motion runs this much more forward than sideways or vertically (a push from a hanging hand "
+        "rises as much as it goes forward, but ends straight ahead)")
+    click_end_mm: float = Field(150.0, gt=0, description="the last stretch of a push, judged for its direction")
+    click_min_reach_mm: float = Field(
+        400.0, gt=0, description="the push ends at least this far in front of the torso (an arm stretched "
+        "out: 500-650 mm; arms swinging while walking, running or kicking stay nearer)")
+    click_max_below_shoulder_mm: float = Field(
+        200.0, description="and no lower than this below the shoulders (a button is pushed at chest height)")
 
     # --- hand raise ---------------------------------------------------------------------------
     raise_min_above_head_mm: float = Field(

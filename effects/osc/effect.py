@@ -11,7 +11,7 @@ from typing import Annotated, Literal
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from host import CANONICAL_GESTURES, Effect, Frame, Gesture, Hand, Stage
+from host import CANONICAL_GESTURES, Effect, Frame, Gesture, GestureType, Hand, Stage
 
 from effects.osc.coords import Projector, Space
 from effects.osc.destinations import Address, Destination, Warn, warn_stderr
@@ -46,6 +46,7 @@ class OscOptions(BaseModel):
     depth_range: tuple[float, float] = (500.0, 4500.0)  # millimetres mapped to 0..1 in space "normalized"
     hands: list[Literal["left", "right", "unknown"]] = ["left", "right", "unknown"]
     gestures: list[Literal[CANONICAL_GESTURES]] = list(CANONICAL_GESTURES)
+    learned: bool = True  # also send learned gestures (`issv learn`), under the names they were taught
     in_progress: bool = False  # also send gestures under way, not only completed ones
     rate: float = Field(0.0, ge=0)  # at most this many hand bundles per second; 0: every frame
     pd_safe: bool = True  # only i, f, s types (Pd 0.53's oscparse rejects T, F, N, h, d)
@@ -116,7 +117,8 @@ class OscEffect(Effect):
     # -- gestures: every event, at once -----------------------------------------------------------
     def on_gesture(self, gesture: Gesture) -> None:
         o = self.options
-        if (gesture.name not in o.gestures or gesture.side.value not in o.hands
+        wanted = o.learned if gesture.type is GestureType.LEARNED else gesture.name in o.gestures
+        if (not wanted or gesture.side.value not in o.hands
                 or (gesture.state.value != "complete" and not o.in_progress)):
             return
         if not self.projector.ready:  # only before the first frame: its geometry comes right after

@@ -164,7 +164,8 @@ FIELDS = {
 _ALONE = re.compile(r"^\{(\w+)\}$")
 
 
-def _placeholders(text: str) -> list[str]:
+def placeholders(text: str) -> list[str]:
+    """The {field} names in a template text (also read by the osc-in backend's custom scheme)."""
     try:
         return [name for _, name, _, _ in string.Formatter().parse(text) if name is not None]
     except ValueError as error:
@@ -183,7 +184,7 @@ class Template(BaseModel):
     def _check(self) -> "Template":
         known = FIELDS[self.on]
         texts = [self.address] + [a for a in self.args if isinstance(a, str)]
-        for name in (n for text in texts for n in _placeholders(text)):
+        for name in (n for text in texts for n in placeholders(text)):
             if name not in known:
                 raise ValueError(f"unknown field {{{name}}} for on = {self.on!r}; expected one of {', '.join(known)}")
         if not (self.address.startswith("/") or self.address.startswith("{prefix}")):

@@ -28,7 +28,8 @@ side        left | right | unknown (the performer's own left and right)
 state       new | tracking | lost | touching_fov, or absent: the hand was in the
             previous bundle and is gone now (sent once, at its last position)
 name        wave | click | hand_raise | swipe_left | swipe_right | swipe_up | swipe_down
-            (swipes are named from the performer's point of view)
+            (swipes are named from the performer's point of view), or the name of a
+            learned gesture (`issv learn`; option learned = false leaves them out)
 state       of a gesture: complete, or in_progress (only with in_progress = true)
 hand        the id of the hand that made the gesture (0 if unknown)
 confidence  0..1

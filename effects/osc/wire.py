@@ -89,9 +89,10 @@ def encode(message: Message, pd: bool) -> bytes:
     return _encode(safe_for_pd(message) if pd else message)
 
 
-def encode_bundle(messages: list[Message], pd: bool) -> bytes:
-    """Messages as one bundle with the `immediately` time tag: one datagram, one instant."""
-    parts = [_BUNDLE_HEAD]
+def encode_bundle(messages: list[Message], pd: bool, time_tag: int = 1) -> bytes:
+    """Messages as one bundle: one datagram, one instant. `time_tag`: NTP 32.32 fixed point, or 1
+    (the default) for `immediately`."""
+    parts = [_BUNDLE_HEAD if time_tag == 1 else _string("#bundle") + struct.pack(">Q", time_tag)]
     for message in messages:
         data = encode(message, pd)
         parts += [_SIZE(len(data)), data]

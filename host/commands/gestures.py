@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Iterator
 
 from host.errors import UserError
+from host.learned.recognizer import LearnedRecognizer
 from host.model import Hand, HandState, Side, Vec3
 from host.plugins import default_registry
 
@@ -33,6 +34,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--backend", default="openiss", help="backend whose recogniser to run (default: openiss)")
     p.add_argument("--mirrored", action="store_true",
                    help="the coordinates come from a mirrored image: +x is the performer's right")
+    add_learned_argument(p)
+
+
+def add_learned_argument(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--learned", action="append", type=Path, default=[], metavar="FILE",
+                   help="also recognise this learned gesture (made by `issv learn`; repeatable)")
 
 
 @dataclass
@@ -114,8 +121,11 @@ def recognizer_for(backend: str):
 
 def main(args: argparse.Namespace) -> int:
     recognizer = recognizer_for(args.backend)
+    learned = LearnedRecognizer.from_files(args.learned, args.mirrored) if args.learned else None
     for frame in read_trajectories(args.file):
         for gesture in recognizer.update(frame.t, frame.hands, frame.body, args.mirrored):
+            print(json.dumps(gesture.to_json()))
+        for gesture in learned.update(frame.t, frame.hands, frame.body) if learned else ():
             print(json.dumps(gesture.to_json()))
     for gesture in recognizer.finish():  # the file ended: swipes being confirmed complete
         print(json.dumps(gesture.to_json()))

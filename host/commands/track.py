@@ -16,8 +16,11 @@ import json
 import sys
 from pathlib import Path
 
+from host.commands.gestures import add_learned_argument
 from host.contracts import PluginUnavailable, Stage
 from host.errors import UserError
+from host.learned.backend import LearnedBackend
+from host.learned.recognizer import LearnedRecognizer
 from host.loop import Limits, PacedSource, Show
 from host.plugins import default_registry
 from host.tap import SensorTap
@@ -28,6 +31,7 @@ HELP = "track hands and gestures in depth clips (.npz) with a backend; prints ev
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("clips", nargs="+", type=Path, help="depth clips (.npz, docs/architecture.md)")
     p.add_argument("--backend", default="openiss", help="backend to run (default: openiss)")
+    add_learned_argument(p)
 
 
 def _plugin(kind: str, name: str):
@@ -41,11 +45,12 @@ def _plugin(kind: str, name: str):
     return entry.cls
 
 
-def track(clip: Path, backend_cls, source_cls, tag: str | None, out) -> None:
-    """Play one clip through a fresh backend, writing its lines to `out` (on the sensor thread, in
-    the order the backend made them)."""
+def track(clip: Path, backend_cls, source_cls, tag: str | None, out, learned: list[Path] = ()) -> None:
+    """Play one clip through a fresh backend (and fresh learned gestures), writing its lines to `out`
+    (on the sensor thread, in the order the backend made them)."""
     source = source_cls(source_cls.Options(path=str(clip)))
-    backend = backend_cls(PacedSource(source, realtime=False), backend_cls.Options())
+    inner = backend_cls(PacedSource(source, realtime=False), backend_cls.Options())
+    backend = LearnedBackend(inner, LearnedRecognizer.from_files(learned)) if learned else inner
     extra = {"clip": tag} if tag is not None else {}
 
     def line(doc: dict) -> None:
@@ -81,5 +86,5 @@ def main(args: argparse.Namespace) -> int:
     source_cls = _plugin("sources", "clip")
     several = len(args.clips) > 1
     for clip in args.clips:
-        track(clip, backend_cls, source_cls, str(clip) if several else None, sys.stdout)
+        track(clip, backend_cls, source_cls, str(clip) if several else None, sys.stdout, args.learned)
     return 0

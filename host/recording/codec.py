@@ -13,7 +13,8 @@ Channels (one per kind of data, so standard MCAP tools can filter them):
   full precision, plus `seq`, the frame that carried it.
 - `/hands`, `json` (schema `issv.Hands`): one message per sensor frame, written last for that
   frame: `seq`, `t`, `capture_time`, `backend`, `depth_id` (the `frame_id` of its depth image, or
-  null), `hands` [{id, state, side, position, user_id, confidence}].
+  null), `hands` [{id, state, side, position, user_id, confidence, extended}], and, when the
+  backend tracks users, `users` [{id, state, center_of_mass, joints {name: {position, confidence}}}].
 - `/metrics`, `json` (schema `issv.Metrics`): the `--metrics-json` document about once a second
   and once at the end (`final`: true).
 
@@ -31,7 +32,7 @@ import zstandard
 
 from host import compression
 from host.model import (DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState,
-                        Intrinsics, Side, Truth, TruthGesture)
+                        Intrinsics, Side, Truth, TruthGesture, User)
 
 FORMAT = "issv-recording/1"
 DEPTH, HANDS, GESTURES, METRICS = "/depth", "/hands", "/gestures", "/metrics"
@@ -60,7 +61,13 @@ SCHEMAS: dict[str, dict] = {
             "hands": {"type": "array", "items": {"type": "object", "properties": {
                 "id": {"type": "integer"}, "state": {"enum": [s.value for s in HandState]},
                 "side": {"enum": [s.value for s in Side]}, "position": _VEC,
-                "user_id": {"type": "integer"}, "confidence": {"type": "number"}}}},
+                "user_id": {"type": "integer"}, "confidence": {"type": "number"},
+                "extended": {"type": ["boolean", "null"]}}}},
+            "users": {"type": "array", "items": {"type": "object", "properties": {
+                "id": {"type": "integer"}, "state": {"enum": [s.value for s in HandState]},
+                "center_of_mass": {"oneOf": [_VEC, {"type": "null"}]},
+                "joints": {"type": "object", "additionalProperties": {"type": "object", "properties": {
+                    "position": _VEC, "confidence": {"type": "number"}}}}}}},
         },
         "required": ["seq", "t", "capture_time", "backend", "depth_id", "hands"],
     },
@@ -161,29 +168,39 @@ def decode_json(data: bytes) -> dict:
 
 def hand_to_json(h: Hand) -> dict:
     return {"id": h.id, "state": h.state.value, "side": h.side.value, "position": list(h.position),
-            "user_id": h.user_id, "confidence": h.confidence}
+            "user_id": h.user_id, "confidence": h.confidence, "extended": h.extended}
 
 
 def hand_from_json(d: dict) -> Hand:
+    extended = d.get("extended")
     return Hand(int(d["id"]), HandState(d["state"]), _vec(d["position"]), Side(d["side"]),
-                int(d.get("user_id", 1)), float(d.get("confidence", 1.0)))
+                int(d.get("user_id", 1)), float(d.get("confidence", 1.0)),
+                None if extended is None else bool(extended))
 
 
 def gesture_to_json(g: Gesture, seq: int) -> dict:
     return {"seq": seq, "t": g.timestamp, "type": "gesture", "name": g.name, "native": g.type.value,
             "state": g.state.value, "hand": g.hand_id, "side": g.side.value, "position": list(g.position),
-            "confidence": g.confidence}
+            "confidence": g.confidence, "user_id": g.user_id, **({"hands": list(g.hands)} if g.hands else {})}
 
 
 def gesture_from_json(d: dict) -> Gesture:
-    return Gesture(GestureType(d["native"]), GestureState(d["state"]), _vec(d["position"]), int(d["hand"]),
-                   Side(d["side"]), float(d["confidence"]), float(d["t"]))
+    kind = GestureType(d["native"])
+    return Gesture(kind, GestureState(d["state"]), _vec(d["position"]), int(d["hand"]),
+                   Side(d["side"]), float(d["confidence"]), float(d["t"]), int(d.get("user_id", 1)),
+                   label=str(d["name"]) if kind is GestureType.LEARNED else "",
+                   hands=tuple(int(h) for h in d.get("hands", ())))
 
 
 def hands_to_json(frame: Frame) -> dict:
     return {"seq": frame.seq, "t": frame.timestamp, "capture_time": frame.capture_time,
             "backend": frame.backend, "depth_id": frame.depth.frame_id if frame.depth is not None else None,
-            "hands": [hand_to_json(h) for h in frame.hands]}
+            "hands": [hand_to_json(h) for h in frame.hands],
+            **({"users": [u.to_json() for u in frame.users]} if frame.users else {})}
+
+
+def users_from_json(doc: dict) -> tuple[User, ...]:
+    return tuple(User.from_json(u) for u in doc.get("users", ()))
 
 
 def checked(decode, doc: dict, what: str):

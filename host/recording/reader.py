@@ -207,8 +207,10 @@ class Recording:
                     if depth is not None and doc.get("depth_id") == depth.frame_id:
                         decoded = frame_depth = decoded or depth.decode()
                     hands = tuple(codec.checked(codec.hand_from_json, h, "hands") for h in doc["hands"])
+                    users = codec.checked(codec.users_from_json, doc, "hands")
                     yield Frame(int(doc["seq"]), float(doc["capture_time"]), frame_depth, hands,
-                                tuple(gestures), str(doc.get("backend", "")))
+                                tuple(gestures), str(doc.get("backend", "")), users=users,
+                                time=float(doc["t"]))
                     gestures = []
         self.end_gestures = tuple(gestures)
 

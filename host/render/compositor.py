@@ -11,6 +11,12 @@ that matrix and shapes land warped on the output directly. Otherwise the stage i
 
 Effects draw premultiplied colour (rgb * alpha, alpha) and leave the blend state as the host
 set it; an effect's own overlapping shapes combine with its blend mode too.
+
+Filters read the show so far: `target.below()` copies the stage as composited up to this layer
+into a texture (one blit, only for the effects that ask). A layer group (effects N..M) that a
+later effect reads with `target.layers(N, M)` is drawn into a texture of its own instead of onto
+the stage, so that effect (a transition) can mix it with what is below; inside a group,
+`below()` is the group drawn so far.
 """
 from __future__ import annotations
 
@@ -67,9 +73,11 @@ class Layer:
     must bind it again with `use()`).
     """
 
-    def __init__(self, ctx: moderngl.Context, size: tuple[int, int], textures: FrameTextures) -> None:
+    def __init__(self, ctx: moderngl.Context, size: tuple[int, int], textures: FrameTextures,
+                 compositor: "Compositor | None" = None) -> None:
         self.ctx = ctx
         self.size = size
+        self._compositor = compositor
         self.fbo: moderngl.Framebuffer | None = None
         self.to_clip = pixels_to_clip(size)
         self.blend = "normal"
@@ -91,6 +99,16 @@ class Layer:
     def mask_texture(self) -> moderngl.Texture | None:
         return self._textures.mask()
 
+    def below(self) -> moderngl.Texture:
+        """Everything composited below this layer (RGBA, t = 1 at the top), copied once per call."""
+        texture = self._compositor.copy_stage()
+        self.use()
+        return texture
+
+    def layers(self, first: int, last: int) -> moderngl.Texture:
+        """Effects first..last (profile indices) as drawn apart this frame (transparent where empty)."""
+        return self._compositor.group(first, last).color_attachments[0]
+
 
 class Compositor:
     """Runs the effects' draws onto the stage framebuffer in order; see the module docstring."""
@@ -102,7 +120,9 @@ class Compositor:
         self.vbo = ctx.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], "f4").tobytes())
         self.vao = ctx.vertex_array(self.prog, [(self.vbo, "2f", "in_pos")])
         self._layer_fbo: moderngl.Framebuffer | None = None  # shared by effects with opacity < 1
-        self.target = Layer(ctx, size, textures)
+        self._below: moderngl.Texture | None = None
+        self._groups: dict[tuple[int, int], moderngl.Framebuffer] = {}
+        self.target = Layer(ctx, size, textures, self)
 
     def _translucent_fbo(self) -> moderngl.Framebuffer:
         if self._layer_fbo is None:
@@ -115,6 +135,32 @@ class Compositor:
         stage.clear(0.0, 0.0, 0.0, 1.0)
         self.stage = stage
         self.target.frame, self.target.time, self.target.dt = frame, time, dt
+
+    def copy_stage(self) -> moderngl.Texture:
+        if self._below is None:
+            self._below = self.ctx.texture(self.size, 4)
+            self._below.filter = (moderngl.LINEAR, moderngl.LINEAR)
+            self._below.repeat_x = self._below.repeat_y = False
+        self.ctx.copy_framebuffer(self._below, self.stage)
+        return self._below
+
+    def group(self, first: int, last: int) -> moderngl.Framebuffer:
+        key = (first, last)
+        if key not in self._groups:
+            texture = self.ctx.texture(self.size, 4)
+            texture.repeat_x = texture.repeat_y = False
+            self._groups[key] = self.ctx.framebuffer([texture])
+            self._groups[key].clear(0.0, 0.0, 0.0, 0.0)
+        return self._groups[key]
+
+    def open_group(self, first: int, last: int) -> None:
+        """The next layers draw into group first..last (cleared) until `close_group()`."""
+        self._main = self.stage
+        self.stage = self.group(first, last)
+        self.stage.clear(0.0, 0.0, 0.0, 0.0)
+
+    def close_group(self) -> None:
+        self.stage = self._main
 
     def before(self, blend: str, opacity: float) -> Layer:
         """Binds where the next effect draws: the stage itself, or a cleared layer if translucent."""
@@ -140,6 +186,11 @@ class Compositor:
         self.vao.render(moderngl.TRIANGLE_STRIP)
 
     def release(self) -> None:
+        for fbo in self._groups.values():
+            fbo.color_attachments[0].release()
+            fbo.release()
+        if self._below is not None:
+            self._below.release()
         if self._layer_fbo is not None:
             self._layer_fbo.color_attachments[0].release()
             self._layer_fbo.release()

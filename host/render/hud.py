@@ -1,4 +1,5 @@
-"""The operator's overlay: backend, sFPS, rFPS, effective FPS, latency, the last gestures.
+"""The operator's overlay: backend, its input and rate, sFPS, rFPS, effective FPS, latency, the last gestures,
+the source's own figures, each layer's GPU time.
 
 Text is drawn with OpenCV into a small RGBA image and uploaded at most 4 times a second, so the
 HUD costs one small blended quad per frame.
@@ -15,6 +16,7 @@ from host.metrics import Metrics
 
 FONT = cv2.FONT_HERSHEY_SIMPLEX
 REFRESH_S = 0.25
+ROWS = 7  # the lines below
 VERTEX = """
 #version 330
 in vec2 in_pos;
@@ -31,14 +33,15 @@ void main() { color = texture(text, uv); }
 """
 
 
-def lines(m: Metrics) -> list[str]:
+def lines(m: Metrics, layers: str = "") -> list[str]:
     sfps, rfps = m.live()
     lat = m.latency(recent=120)
     last = ", ".join(g.name for g in list(m.last_gestures)[-3:]) or "-"
-    return [f"backend {m.backend}",
+    return [f"backend {m.backend}", f"input {m.input_label}",
             f"sFPS {sfps:5.1f}  rFPS {rfps:5.1f}  eff {(sfps + rfps) / 2:5.1f}",
             f"latency p50 {lat['p50']:5.1f} ms  p99 {lat['p99']:5.1f} ms",
-            f"gestures {last}"]
+            f"gestures {last}",
+            m.source_line(), layers]
 
 
 class Hud:
@@ -48,7 +51,7 @@ class Hud:
         self.ctx = ctx
         self.scale = max(0.4, size[1] / 1080)
         self.line_h = int(34 * self.scale)
-        self.panel = (int(560 * self.scale), self.line_h * 4 + int(14 * self.scale))
+        self.panel = (int(760 * self.scale), self.line_h * ROWS + int(14 * self.scale))
         pw, ph = self.panel
         self.texture = ctx.texture(self.panel, 4)
         x0, y1 = -1.0 + 2 * 8 / size[0], 1.0 - 2 * 8 / size[1]
@@ -59,20 +62,21 @@ class Hud:
         self.vao = ctx.vertex_array(self.prog, [(self.vbo, "2f 2f", "in_pos", "in_uv")])
         self._next = 0.0
 
-    def _update(self, m: Metrics) -> None:
+    def _update(self, m: Metrics, layers: str) -> None:
         pw, ph = self.panel
         img = np.zeros((ph, pw, 4), np.uint8)
         img[..., 3] = 150  # a dark translucent panel (premultiplied: black stays black)
-        for i, text in enumerate(lines(m)):
+        for i, text in enumerate(lines(m, layers)):
             cv2.putText(img, text, (int(10 * self.scale), self.line_h * (i + 1)), FONT, 0.9 * self.scale,
                         (255, 255, 255, 255), max(1, int(2 * self.scale)), cv2.LINE_AA)
         self.texture.write(np.ascontiguousarray(img[::-1]))
 
-    def draw(self, m: Metrics, target: moderngl.Framebuffer) -> None:
+    def draw(self, m: Metrics, target: moderngl.Framebuffer, layers: str = "") -> None:
+        """`layers`: one line of each layer's GPU time (host/render/gputime.py)."""
         now = time.monotonic()
         if now >= self._next:
             self._next = now + REFRESH_S
-            self._update(m)
+            self._update(m, layers)
         target.use()
         self.ctx.enable(moderngl.BLEND)
         self.ctx.blend_func = moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA

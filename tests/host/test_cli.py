@@ -20,10 +20,14 @@ def test_version():
 def test_list_json_shows_the_builtins_with_availability():
     data = json.loads(issv("list", "--json").stdout)
     assert set(data) == {"backends", "sources", "effects"}
-    for items in data.values():
+    for kind, items in data.items():
         for item in items:
-            assert set(item) == {"name", "available", "reason", "plugin"}
+            extra = {"devices"} if kind == "sources" and "devices" in item else set()  # sources opening cameras
+            framed = {"frames"} if kind != "effects" else set()  # depth or colour frames (None: its own)
+            assert set(item) == {"name", "available", "reason", "plugin"} | extra | framed
             assert (item["reason"] is None) == item["available"]
+    frames = {i["name"]: i["frames"] for kind in ("backends", "sources") for i in data[kind]}
+    assert frames["openiss"] == frames["synthetic"] == "depth" and frames["osc-in"] is None
     names = {kind: {i["name"] for i in items} for kind, items in data.items()}
     assert {"truth"} <= names["backends"] and {"clip", "synthetic"} <= names["sources"]
     assert "console" in names["effects"]

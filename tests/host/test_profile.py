@@ -91,3 +91,37 @@ def test_shipped_profiles_are_valid():
     assert profiles
     run = subprocess.run([sys.executable, "-m", "host", "check", *profiles], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
+
+
+class ColourSource(ClipSource):
+    """A source of colour frames (as a webcam gives), for the fit check."""
+
+    name = "colour"
+    frames = "colour"
+
+
+class ColourBackend(TruthBackend):
+    name = "colour-tracker"
+    takes = "colour"
+
+
+def test_a_backend_and_a_source_of_different_frames_do_not_fit(registry):
+    registry.register("sources", ColourSource, "test")
+    registry.register("backends", ColourBackend, "test")
+    assert errors(GOOD.replace('"clip"', '"colour"'), registry) == [
+        "profiles/x.toml: [backend] 'truth' tracks depth frames, but [source] 'colour' gives colour frames: "
+        "pick a source with depth frames or a backend that takes colour ones (`issv list` says which is which)"]
+    assert "[backend] 'colour-tracker' tracks colour frames, but [source] 'clip' gives depth frames" in \
+        errors(GOOD.replace('"truth"', '"colour-tracker"'), registry)[0]
+    parse(GOOD.replace('"clip"', '"colour"').replace('"truth"', '"colour-tracker"'), "x.toml", "/show", registry)
+
+
+def test_a_source_the_backend_does_not_use_is_a_warning():
+    from backends.oscin.backend import OscInBackend
+    r = Registry()
+    r.register("backends", OscInBackend, "test")
+    r.register("sources", ClipSource, "test")
+    prof = parse('backend = "osc-in"\n[source]\nname = "clip"\npath = "c.npz"\n', "p.toml", "/show", r)
+    assert prof.source is None
+    assert prof.warnings == ["p.toml: [source] 'clip' is not used: backend 'osc-in' makes its own frames "
+                             "(it takes no source)"]

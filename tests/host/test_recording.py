@@ -142,3 +142,19 @@ def test_not_a_recording(tmp_path):
         Recording(other)
     with pytest.raises(UserError, match="no such recording"):
         Recording(tmp_path / "missing.mcap")
+
+
+def test_users_extended_hands_and_gesture_users_are_recorded(tmp_path):
+    """A frame without depth (an OSC tracker's) keeps its time, users and who made a gesture."""
+    from host import Gesture, GestureState, GestureType, Hand, HandState, Joint, Side, User
+    from host.model import Frame
+    user = User(3, HandState.TRACKING, {"torso": Joint((10.0, 20.0, 2000.0), 0.9), "head": Joint((0.0, 600.0, 2000.0))},
+                (10.0, -50.0, 2010.0))
+    hand = Hand(32, HandState.TRACKING, (300.0, 400.0, 1700.0), Side.RIGHT, 3, 0.8, extended=True)
+    gesture = Gesture(GestureType.WAVE, GestureState.COMPLETE, (300.0, 400.0, 1700.0), 32, Side.RIGHT, 0.7, 1.25, 3)
+    frames = [Frame(1, 100.0, None, (hand,), (gesture,), "osc-in", users=(user,), time=1.25),
+              Frame(2, 100.1, None, (), (), "osc-in", time=1.3)]
+    with Recording(write(tmp_path / "users.mcap", frames)) as rec:
+        back = list(rec.frames())
+    assert back[0].users == (user,) and back[0].hands == (hand,) and back[0].time == 1.25
+    assert back[0].gestures[0].user_id == 3 and back[1].users == () and back[1].timestamp == 1.3

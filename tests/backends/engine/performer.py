@@ -40,8 +40,8 @@ def write_clip(path: Path, depth_frames: list[DepthFrame]) -> Path:
 
 
 def swipe_cut_short(path: Path) -> Path:
-    """A clip of one swipe that stops while the swipe waits for its confirmation (the quarter second
-    in which a comparable stroke back would make it a wind-up): only the clip's end completes it."""
+    """A clip of one swipe that stops while the swipe waits for its confirmation (the 0.12 s in
+    which a comparable stroke back would make it a wind-up): only the clip's end completes it."""
     swipe = frames(SWIPE, background="none")
-    cut = max(i for i, f in enumerate(swipe) if f.truth.gestures) + 8  # the stroke's stop is seen 4-5 frames on
+    cut = max(i for i, f in enumerate(swipe) if f.truth.gestures) + 6  # the stroke's stop is seen 4-5 frames on
     return write_clip(path, swipe[:cut])

@@ -193,7 +193,7 @@ def test_a_hand_found_mid_rise_or_lost_mid_drop_is_no_vertical_swipe():
     assert not [n for n in completed(events) if n.startswith("swipe")]
 
 
-@pytest.mark.parametrize("unseen, swipes", [((), True), ((0.18, 0.3), True), ((0.18, 9.0), False)],
+@pytest.mark.parametrize("unseen, swipes", [((), True), ((0.08, 0.3), True), ((0.08, 9.0), False)],
                          ids=["in-view", "blinks", "vanishes"])
 def test_a_hand_lost_while_its_swipe_down_waits_went_back_to_rest(unseen, swipes):
     """A fast drop from the shoulder that stops at the belly is a swipe down while the hand stays

@@ -85,7 +85,7 @@ def run_show(effects: list[Effect | tuple[Effect, str, float]], frames: list[Fra
     from host.render import make_renderer
 
     snapshot = tmp_path / "last.png"
-    out = Output(size=size, mode="headless", hud=False, snapshot=str(snapshot), fps=240, **output)
+    out = Output(**{"size": size, "mode": "headless", "hud": False, "snapshot": str(snapshot), "fps": 240, **output})
     stage = Stage(size=size, fps=out.fps, backend="scripted")
     renderer = make_renderer(out, stage)
     slots = []

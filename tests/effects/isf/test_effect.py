@@ -49,12 +49,6 @@ def test_a_header_that_is_not_json_names_file_and_line(tmp_path):
         IsfShader(path)
 
 
-def test_multi_pass_shaders_are_refused_with_the_reason(tmp_path):
-    path = write(tmp_path, "passes.fs", '/*{"PASSES": [{"TARGET": "a"}, {}]}*/\nvoid main() {}\n')
-    with pytest.raises(IsfError, match="single-pass"):
-        IsfShader(path)
-
-
 def test_bindings_are_checked_with_the_profile(tmp_path, capsys):
     path = write(tmp_path, "ok.fs", GOOD_HEADER + "void main() { gl_FragColor = vec4(1.0); }\n")
     profile = write(tmp_path, "show.toml", """
@@ -123,3 +117,79 @@ void main() {
     # ISF's point2D is in pixels from the bottom-left: the red dot is at the hand, image row y.
     assert lit(image, (x, y), 2)[2] == 255
     assert image[:, :, 2].sum() / 255 < 200  # a small dot, nothing else
+
+
+INVERT = """/*{"INPUTS": [{"NAME": "inputImage", "TYPE": "image"}]}*/
+void main() { vec4 c = IMG_THIS_PIXEL(inputImage); gl_FragColor = vec4(1.0 - c.rgb, 1.0); }
+"""
+GREEN = "/*{}*/\nvoid main() { gl_FragColor = vec4(0.0, 1.0, 0.0, 1.0); }\n"
+MIX = """/*{"INPUTS": [{"NAME": "startImage", "TYPE": "image"}, {"NAME": "endImage", "TYPE": "image"},
+                {"NAME": "progress", "TYPE": "float", "DEFAULT": 0.0}]}*/
+void main() { gl_FragColor = mix(IMG_THIS_PIXEL(startImage), IMG_THIS_PIXEL(endImage), progress); }
+"""
+
+
+@requires_gl
+def test_a_filter_applies_to_everything_composited_below_it(tmp_path):
+    frames = frames_with_hand([HAND] * 3)
+    plain = run_show([DepthView(DepthView.Options())], frames, tmp_path, SIZE)[0]
+    inverted = run_show([DepthView(DepthView.Options()), isf(file=str(write(tmp_path, "inv.fs", INVERT)))],
+                        frames_with_hand([HAND] * 3), tmp_path, SIZE)[0]
+    assert plain[5, 5].max() == 0 and inverted[5, 5].min() == 255  # the empty stage, inverted
+    assert abs(int(inverted[120, 160, 0]) - (255 - int(plain[120, 160, 0]))) <= 2  # the performer box too
+
+
+@requires_gl
+@pytest.mark.parametrize("progress", [0.0, 1.0])
+def test_a_transition_crossfades_the_show_below_with_a_layer_group_drawn_apart(tmp_path, progress):
+    green = isf(file=str(write(tmp_path, "green.fs", GREEN)))
+    fade = isf(file=str(write(tmp_path, "mix.fs", MIX)), bind={"endImage": "layers.1"}, values={"progress": progress})
+    image = run_show([DepthView(DepthView.Options()), green, fade], frames_with_hand([HAND] * 3), tmp_path, SIZE)[0]
+    if progress == 0.0:  # the depth view alone: the green layer is not drawn on the stage
+        assert image[5, 5].max() == 0 and image[120, 160, 1] == image[120, 160, 0] > 100
+    else:
+        assert (image[..., 1] == 255).all() and image[..., [0, 2]].max() == 0
+
+
+def test_bindings_for_transitions_and_filters_are_checked(tmp_path):
+    path = write(tmp_path, "mix.fs", MIX)
+    Isf.Options(file=str(path), bind={"startImage": "mask", "endImage": "layers.2-4", "progress": "time.8"})
+    Isf.Options(file=str(path), bind={"progress": "gesture.wave.toggle"})
+    Isf.Options(file=str(path), bind={"progress": "hand.right.x"})
+    with pytest.raises(ValueError, match=r"input 'endImage' \(image\) cannot be bound to 'layers'"):
+        Isf.Options(file=str(path), bind={"endImage": "layers"})
+    with pytest.raises(ValueError, match=r"cannot be bound to 'time.0'"):
+        Isf.Options(file=str(path), bind={"progress": "time.0"})
+
+
+SHOW_VALUE = """/*{"INPUTS": [{"NAME": "v", "TYPE": "float", "MIN": 0.0, "MAX": 1.0, "DEFAULT": 0.0}]}*/
+void main() { gl_FragColor = vec4(v, 0.0, 0.0, 1.0); }
+"""
+
+
+@requires_gl
+@pytest.mark.parametrize("gesture, lit", [("swipe_left", True), ("wave", False)])
+def test_a_toggle_binding_starts_fading_on_its_gesture(tmp_path, gesture, lit):
+    shader = write(tmp_path, "v.fs", SHOW_VALUE)
+    effect = isf(file=str(shader), bind={"v": "gesture.swipe_left.toggle"})
+    image = run_show([effect], frames_with_hand([HAND] * 10, {1: [gesture_at(gesture, HAND)]}), tmp_path, SIZE)[0]
+    red = int(image[120, 160, 2])
+    assert (5 < red < 250) if lit else red == 0  # fading in over a second (the run lasts ~0.2 s)
+
+
+@requires_gl
+def test_a_float_follows_the_hand_across_the_stage(tmp_path):
+    shader = write(tmp_path, "v.fs", SHOW_VALUE)
+    frames = frames_with_hand([HAND] * 3)
+    image, _, stage = run_show([isf(file=str(shader), bind={"v": "hand.right.x"})], frames, tmp_path, SIZE)
+    x = stage.to_stage(HAND, frames[-1].depth)[0] / SIZE[0]
+    assert abs(int(image[120, 160, 2]) - x * 255) <= 2
+
+
+@requires_gl
+def test_a_transition_that_reads_its_own_layer_says_so_and_the_show_goes_on(tmp_path, capsys):
+    fade = isf(file=str(write(tmp_path, "mix.fs", MIX)), bind={"endImage": "layers.1"}, values={"progress": 1.0})
+    image, show, _ = run_show([DepthView(DepthView.Options()), fade], frames_with_hand([HAND] * 3), tmp_path, SIZE)
+    err = capsys.readouterr().err
+    assert err.count("effects[1]: reads effects[1..1], which must be other effects") == 1
+    assert all(slot.enabled for slot in show.effects)

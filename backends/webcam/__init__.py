@@ -1,0 +1,1 @@
+"""`mediapipe`: users, hands and gestures from colour frames (the `webcam` source) with MediaPipe."""

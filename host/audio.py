@@ -1,0 +1,134 @@
+"""The show's sound, for effects: the newest samples, their level and their spectrum.
+
+An audio input is put on `stage.extra["audio"]` (by the `audio` effect, first in the profile);
+effects read it in `render`/`on_frame`: `sound.level()` (RMS, 0..1), `sound.spectrum(bins)`
+(magnitudes, 0..1), `sound.window(n)` (the newest n samples per channel, -1..1). Three kinds:
+
+- `FileSound`: a WAV/FLAC file (`soundfile`, the `issv[audio]` extra), its position set from the
+  source's timestamps so that the picture and the sound stay in sync (seek, not a clock).
+- `CaptureSound`: the default capture device through PortAudio (`sounddevice`, same extra). The
+  device callback only overwrites a ring buffer (no queue, never blocking the audio thread).
+- `ToneSound`: a test tone (`issv isf` feeds it to audio inputs).
+"""
+from __future__ import annotations
+
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+
+from host.errors import UserError
+
+AUDIO_EXTRA = "pip install 'issv[audio]'"
+
+
+class Sound:
+    """Samples by time; subclasses give `window(n)`, the newest n frames as (n, channels) float32."""
+
+    rate: int = 44100
+    channels: int = 1
+
+    def window(self, n: int) -> np.ndarray:
+        raise NotImplementedError
+
+    def level(self, n: int = 1024) -> float:
+        """Root-mean-square of the newest n samples, all channels: 0 silence, ~0.7 a full-scale sine."""
+        w = self.window(n)
+        return float(np.sqrt(np.mean(np.square(w)))) if w.size else 0.0
+
+    def spectrum(self, bins: int = 256) -> np.ndarray:
+        """Magnitudes of `bins` frequency bands from 0 to rate/2 (Hann window, mono), about 0..1."""
+        w = self.window(2 * bins).mean(axis=1)
+        if not w.size:
+            return np.zeros(bins, np.float32)
+        mags = np.abs(np.fft.rfft(w * np.hanning(len(w))))[:bins] / (len(w) / 4)
+        return np.clip(mags, 0.0, 1.0).astype(np.float32)
+
+    def close(self) -> None:
+        pass
+
+
+class ToneSound(Sound):
+    """A 440 Hz tone with two overtones, pulsing twice a second: audio shaders have something to show."""
+
+    def __init__(self, clock=time.perf_counter) -> None:
+        self.clock = clock
+
+    def window(self, n: int) -> np.ndarray:
+        t = self.clock() - np.arange(n)[::-1] / self.rate
+        pulse = 0.6 + 0.4 * np.sin(2 * np.pi * 2 * t)
+        tone = sum(a * np.sin(2 * np.pi * f * t) for f, a in ((440, 0.5), (880, 0.25), (1320, 0.125)))
+        return (pulse * tone).astype(np.float32)[:, None]
+
+
+class FileSound(Sound):
+    """A sound file read whole; `seek(seconds)` sets where the newest sample is."""
+
+    def __init__(self, path: Path) -> None:
+        try:
+            import soundfile
+        except ImportError:
+            raise UserError(f"audio: reading {path} needs soundfile: {AUDIO_EXTRA}") from None
+        try:
+            data, self.rate = soundfile.read(str(path), dtype="float32", always_2d=True)
+        except (RuntimeError, OSError) as error:  # soundfile raises LibsndfileError (a RuntimeError)
+            raise UserError(f"audio: cannot read {path}: {error} (WAV, FLAC or OGG)") from None
+        self.data, self.channels = data, data.shape[1]
+        self.position = 0
+
+    @property
+    def duration(self) -> float:
+        return len(self.data) / self.rate
+
+    def seek(self, seconds: float) -> None:
+        self.position = int(min(max(seconds, 0.0), self.duration) * self.rate)
+
+    def window(self, n: int) -> np.ndarray:
+        start = self.position - n
+        out = np.zeros((n, self.channels), np.float32)
+        part = self.data[max(0, start):self.position]
+        if len(part):
+            out[n - len(part):] = part
+        return out
+
+
+class CaptureSound(Sound):
+    """The default (or a named) capture device. Needs a sound card: cannot be tested here (no
+    device in CI); the ring buffer logic is the same as FileSound's window."""
+
+    def __init__(self, device: str | int | None = None, seconds: float = 1.0) -> None:
+        try:
+            import sounddevice
+        except (ImportError, OSError) as error:  # OSError: the PortAudio library itself is missing
+            raise UserError(f"audio: capture needs sounddevice and PortAudio ({error}): {AUDIO_EXTRA}, "
+                            "apt-get install libportaudio2") from None
+        try:
+            info = sounddevice.query_devices(device, "input")
+            self.rate, self.channels = int(info["default_samplerate"]), max(1, min(2, int(info["max_input_channels"])))
+            self.ring = np.zeros((int(self.rate * seconds), self.channels), np.float32)
+            self.written = 0
+            self.lock = threading.Lock()
+            self.stream = sounddevice.InputStream(device=device, channels=self.channels, samplerate=self.rate,
+                                                  dtype="float32", callback=self._callback)
+            self.stream.start()
+        except Exception as error:  # PortAudioError, ValueError: no such device
+            raise UserError(f"audio: no capture device {device if device is not None else '(default)'} "
+                            f"({error})") from None
+
+    def _callback(self, indata, frames, time_info, status) -> None:
+        data = indata[-len(self.ring):]
+        with self.lock:
+            self.ring[(self.written + np.arange(len(data))) % len(self.ring)] = data
+            self.written += len(data)
+
+    def window(self, n: int) -> np.ndarray:
+        size = len(self.ring)
+        n = min(n, size)
+        with self.lock:
+            idx = (self.written - n + np.arange(n)) % size
+            return self.ring[idx].copy()
+
+    def close(self) -> None:
+        self.stream.stop()
+        self.stream.close()

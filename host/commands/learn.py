@@ -1,0 +1,123 @@
+"""`issv learn NAME EXAMPLE...`: teach issv a gesture by performing it (docs/learned-gestures.md).
+
+    issv learn goggles take1.csv take2.csv@3.5-20 --mirrored -o goggles.gesture.json
+    issv learn --show goggles.gesture.json          # what was learned, and a PNG of the repetitions
+    issv learn bow --profile stage.toml --repetitions 5   # live, from the profile's source and backend
+
+Each example holds one or more repetitions separated by rest or stillness; the learner finds them,
+says how many and how alike they are, and names a repetition far from the others by its time.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from host.errors import UserError
+from host.learned.examples import read_take
+from host.learned.gesture_file import LearnedGesture, load
+from host.learned.learner import far_off, learn
+
+HELP = "learn a gesture from examples of it (CSV trajectories, .npz clips, .mcap recordings)"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("name", nargs="?", help="the gesture's name, as effects and OSC will see it")
+    p.add_argument("examples", nargs="*", metavar="EXAMPLE",
+                   help="FILE or FILE@START-END (seconds): .csv hand trajectories, .npz depth clips, .mcap recordings")
+    p.add_argument("--mirrored", action="store_true",
+                   help="CSV coordinates come from a mirrored image: +x is the performer's right")
+    p.add_argument("-o", "--output", type=Path, help="where to write the gesture (default: NAME.gesture.json)")
+    p.add_argument("--backend", default="openiss", help="backend that tracks hands in .npz clips (default: openiss)")
+    p.add_argument("--show", type=Path, metavar="FILE", help="print what FILE learned and plot its repetitions (PNG)")
+    p.add_argument("--profile", type=Path,
+                   help="teach live: take the repetitions from this profile's source and backend")
+    p.add_argument("--repetitions", type=int, default=5, help="live: how many repetitions to take (default: 5)")
+    p.add_argument("--seconds", type=float, default=3.0, help="live: seconds for each repetition (default: 3)")
+
+
+def describe(g: LearnedGesture) -> str:
+    durations = [r.duration for r in g.repetitions]
+    scores = [r.score for r in g.repetitions if r.score is not None]
+    lines = [f"{g.name}: {len(g.repetitions)} repetitions, {np.median(durations):.2f} s typical "
+             f"({min(durations):.2f}-{max(durations):.2f} s), hands: {g.hands}",
+             f"  threshold {g.threshold:.3f} (a performance must come this close; override per gesture in a "
+             f"profile), completes {g.fires_at:.0%} of the way through"]
+    if scores:
+        lines.append(f"  consistency: each repetition's distance to the others, median {np.median(scores):.3f}, "
+                     f"worst {max(scores):.3f} (body units)")
+    for r in g.repetitions:
+        score = f"  {r.score:.3f}" if r.score is not None else ""
+        lines.append(f"    {r.source} {r.start:.2f}-{r.end:.2f} s{score}")
+    return "\n".join(lines)
+
+
+def plot(g: LearnedGesture, path: Path) -> None:
+    """The repetitions over each other: each hand's x, y, z against the share of the repetition."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(2, 3, figsize=(12, 6), sharex=True)
+    labels = [f"{hand} {axis}" for hand in ("left", "right") for axis in "xyz"]
+    for r in g.repetitions:
+        share = np.linspace(0, 1, len(r.postures))
+        for c, ax in enumerate(axes.flat):
+            ax.plot(share, r.postures[:, c], alpha=0.6, lw=1)
+    for c, ax in enumerate(axes.flat):
+        ax.set_title(labels[c], fontsize=9)
+        ax.axvline(g.fires_at, color="k", ls=":", lw=1)
+    fig.suptitle(f"{g.name}: {len(g.repetitions)} repetitions (body units; dotted: where it completes)")
+    fig.tight_layout()
+    try:
+        fig.savefig(path, dpi=80)
+    except OSError as error:
+        raise UserError(f"{path}: cannot write the plot ({error.strerror})") from None
+    finally:
+        plt.close(fig)
+
+
+def _live(args: argparse.Namespace) -> list:
+    from host import profile as profiles
+    from host.assemble import make_backend
+    from host.learned.live import teach
+    if args.repetitions < 2:
+        raise UserError("issv learn: --repetitions must be at least 2 (the threshold comes from how they differ)")
+    backend = make_backend(profiles.load(args.profile), realtime=True)
+    ask = input if sys.stdin.isatty() else None
+    with backend.inner if hasattr(backend, "inner") else backend:
+        return teach(backend, args.repetitions, args.seconds, sys.stdout, ask)
+
+
+def main(args: argparse.Namespace) -> int:
+    if args.show is not None:
+        gesture = load(args.show)
+        print(describe(gesture))
+        png = args.show.with_suffix(".png")
+        plot(gesture, png)
+        print(f"plot: {png}")
+        return 0
+    if not args.name:
+        raise UserError("issv learn: name the gesture and give examples of it: issv learn NAME TAKE.csv ...")
+    if args.profile is not None:
+        takes = _live(args)
+    elif not args.examples:
+        raise UserError(f"issv learn {args.name}: give examples (TAKE.csv, CLIP.npz, REC.mcap) or --profile to "
+                        "teach live")
+    else:
+        takes = [read_take(e, args.mirrored, args.backend) for e in args.examples]
+    gesture = learn(args.name, takes)
+    output = args.output or Path(f"{args.name}.gesture.json")
+    gesture.save(output)
+    for source, count in gesture.found.items():
+        print(f"{source}: {count} repetitions found")
+    for r in gesture.left_out:
+        print(f"  left out: {r.source} {r.start:.1f}-{r.end:.1f} s lasts {r.duration:.1f} s, unlike the others "
+              "(two run together, or a twitch)")
+    for r in far_off(gesture):
+        print(f"  far from the others: {r.source} {r.start:.1f}-{r.end:.1f} s (score {r.score:.3f}); "
+              "re-record it if it was a wrong take")
+    print(describe(gesture).splitlines()[0])
+    print(f"wrote {output}")
+    return 0

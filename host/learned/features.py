@@ -1,0 +1,140 @@
+"""What a learned gesture is made of: the hands' motion relative to the body, in body units.
+
+Each instant becomes one posture vector: the left hand then the right hand, each as (x, y, z)
+relative to the torso, divided by the body's size (the head-torso distance: about 0.5 m for an
+adult, so a child's gesture and a tall adult's give the same numbers), with +x towards the
+performer's right whichever way the camera mirrors. Postures are resampled to a fixed rate so
+that templates and live streams line up whatever the camera's frame rate.
+
+Without body points (a depth backend that reports hands only) the torso is estimated from the
+hands: the place they hang at rest, a body size below it. Good enough for a performer who stands
+in one place; say so when teaching.
+"""
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+from typing import Iterable, Mapping, Sequence
+
+import numpy as np
+
+from host.model import Hand, Side
+
+RATE_HZ = 15.0  # postures per second, templates and live streams alike
+DEFAULT_SIZE_MM = 520.0  # head-torso distance of an adult, used until a head is seen
+HAND_HOLD_S = 0.5  # a hand unseen for longer hangs at rest (a depth engine reports only hands held out)
+REST_PLACE = {Side.LEFT: (-0.3, -0.6, -0.25), Side.RIGHT: (0.3, -0.6, -0.25)}  # hands at rest, body units
+_SIZE_WINDOW = 60  # head-torso distances in the running median (two seconds at 30 Hz)
+_REST_WINDOW_S = 4.0  # without a torso: how long the hands' resting place is looked for
+
+
+@dataclass
+class Posture:
+    """One instant: source seconds and the 6-vector (left x, y, z, right x, y, z) in body units."""
+
+    t: float
+    vector: np.ndarray
+
+
+class PostureStream:
+    """Fed each frame's hands and body points; yields postures at RATE_HZ.
+
+    Hands are told apart by their side when the backend knows it, else by where they are (the one
+    further to the performer's left is the left). A hand unseen for a moment keeps its place; one
+    unseen for longer than HAND_HOLD_S hangs at rest (REST_PLACE). With no hand at all the stream
+    breaks: no posture until a hand is back."""
+
+    def __init__(self, mirrored: bool = True, rate_hz: float = RATE_HZ) -> None:
+        self.flip = 1.0 if mirrored else -1.0  # camera x -> the performer's right
+        self.period = 1.0 / rate_hz
+        self._next: float | None = None
+        self._last: Posture | None = None
+        self._hands: dict[Side, tuple[float, np.ndarray]] = {}
+        self._sizes: deque[float] = deque(maxlen=_SIZE_WINDOW)
+        self._low: deque[tuple[float, np.ndarray]] = deque()  # without a torso: recent hand places
+        self.broken = False  # the last update had no posture (a hand gone): matching starts again
+
+    def update(self, t: float, hands: Sequence[Hand], body: Mapping[str, Sequence[float]]) -> list[Posture]:
+        self._see(t, hands)
+        vector = self._vector(t, body)
+        self.broken = vector is None
+        if vector is None:
+            self._last = None
+            self._next = None
+            return []
+        now = Posture(t, vector)
+        out = []
+        if self._next is None:
+            self._next = t
+        while self._next <= t + 1e-9:  # linear interpolation between the last frame and this one
+            tick = self._next
+            if self._last is None or t <= self._last.t:
+                out.append(Posture(tick, vector))
+            else:
+                w = (tick - self._last.t) / (t - self._last.t)
+                out.append(Posture(tick, self._last.vector + w * (vector - self._last.vector)))
+            self._next += self.period
+        self._last = now
+        return out
+
+    def _see(self, t: float, hands: Sequence[Hand]) -> None:
+        seen = [h for h in hands if h.in_view]
+        sides = [h.side for h in seen]
+        if len(seen) == 2 and (Side.UNKNOWN in sides or sides[0] == sides[1]):
+            seen = sorted(seen, key=lambda h: self.flip * h.position[0])
+            sides = [Side.LEFT, Side.RIGHT]
+        elif len(seen) == 1 and sides[0] == Side.UNKNOWN:
+            sides = [self._nearest_side(np.asarray(seen[0].position, float))]
+        for hand, side in zip(seen, sides):
+            if side != Side.UNKNOWN:
+                self._hands[side] = (t, np.asarray(hand.position, float))
+
+    def _nearest_side(self, position: np.ndarray) -> Side:
+        known = [(np.linalg.norm(p - position), s) for s, (_, p) in self._hands.items()]
+        return min(known)[1] if known else Side.RIGHT
+
+    def _vector(self, t: float, body: Mapping[str, Sequence[float]]) -> np.ndarray | None:
+        seen = {s: h[1] for s, h in self._hands.items() if t - h[0] <= HAND_HOLD_S}
+        if not seen:
+            return None  # nobody there
+        torso, head = body.get("torso"), body.get("head")
+        if torso is not None and head is not None:
+            size = float(np.linalg.norm(np.subtract(head, torso)))
+            if size > 100.0:  # a real head above a real torso; anything else is a glitch
+                self._sizes.append(size)
+        size = float(np.median(self._sizes)) if self._sizes else DEFAULT_SIZE_MM
+        centre = np.asarray(torso, float) if torso is not None else self._estimated_torso(t, seen, size)
+        rel = []
+        for side in (Side.LEFT, Side.RIGHT):
+            if side in seen:
+                place = (seen[side] - centre) / size
+                place[0] *= self.flip
+            else:
+                place = np.array(REST_PLACE[side])
+            rel.append(place)
+        return np.concatenate(rel)
+
+    def _estimated_torso(self, t: float, seen: dict[Side, np.ndarray], size: float) -> np.ndarray:
+        """No skeleton: where the torso is when the hands' lowest place of the last seconds is rest
+        (a hand unseen is taken to hang at rest, where the seen one's partner would)."""
+        if len(seen) == 2:
+            middle = (seen[Side.LEFT] + seen[Side.RIGHT]) / 2
+        else:
+            side, place = next(iter(seen.items()))
+            middle = place - self.flip * np.array([REST_PLACE[side][0] * size, 0.0, 0.0])
+        self._low.append((t, middle))
+        while self._low and t - self._low[0][0] > _REST_WINDOW_S:
+            self._low.popleft()
+        places = np.array([p for _, p in self._low])
+        rest = places[np.argmin(places[:, 1])] if len(places) < 5 else places[places[:, 1] <= np.percentile(
+            places[:, 1], 20)].mean(axis=0)
+        return rest - np.array([0.0, REST_PLACE[Side.LEFT][1], REST_PLACE[Side.LEFT][2]]) * size
+
+
+def postures(frames: Iterable[tuple[float, Sequence[Hand], Mapping]], mirrored: bool) -> tuple[np.ndarray, np.ndarray]:
+    """A whole recording at RATE_HZ: (times (n,), postures (n, 6)). Gaps (a hand gone) are left out."""
+    stream = PostureStream(mirrored)
+    out = [p for t, hands, body in frames for p in stream.update(t, hands, body)]
+    if not out:
+        return np.zeros(0), np.zeros((0, 6))
+    return np.array([p.t for p in out]), np.array([p.vector for p in out])

@@ -1,0 +1,120 @@
+"""The learned-gesture file: one gesture, shareable between machines (docs/learned-gestures.md).
+
+A small JSON document. Its repetitions are postures in body units (features.py) sampled at
+`rate_hz`, so a file taught on one camera works on another. Everything the recogniser uses is in
+the file and may be edited by hand: `threshold` (how close a performance must come; the profile
+may override it), `fires_at` (how far into the gesture it completes) and `weights`.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from host.errors import UserError
+
+FORMAT = "issv-learned-gesture"
+VERSION = 1
+HANDS = ("left", "right", "both")
+
+
+@dataclass
+class TaughtRepetition:
+    """One repetition as taught: where it came from and its postures (n, 6)."""
+
+    source: str
+    start: float
+    end: float
+    postures: np.ndarray
+    score: float | None = None  # its distance to the other repetitions (lower: more typical)
+
+    @property
+    def duration(self) -> float:
+        return self.end - self.start
+
+
+@dataclass
+class LearnedGesture:
+    name: str
+    hands: str
+    threshold: float
+    fires_at: float
+    weights: np.ndarray
+    repetitions: list[TaughtRepetition] = field(default_factory=list)
+    rate_hz: float = 15.0
+    left_out: list[TaughtRepetition] = field(default_factory=list)  # found but not learned (odd length)
+    found: dict[str, int] = field(default_factory=dict)  # repetitions found per example
+
+    def to_json(self) -> dict:
+        return {
+            "format": FORMAT, "version": VERSION, "name": self.name, "hands": self.hands,
+            "threshold": round(float(self.threshold), 4), "fires_at": round(float(self.fires_at), 3),
+            "rate_hz": self.rate_hz, "weights": [round(float(w), 3) for w in self.weights],
+            "features": "left x y z, right x y z: hand minus torso over head-torso distance; +x performer's right",
+            "repetitions": [{"source": r.source, "start": round(r.start, 3), "end": round(r.end, 3),
+                             **({"score": round(r.score, 4)} if r.score is not None else {}),
+                             "postures": np.round(r.postures, 3).tolist()} for r in self.repetitions],
+        }
+
+    def save(self, path: Path) -> None:
+        text = json.dumps(self.to_json(), separators=(",", ":"))
+        # one repetition per line: diffable, and still one JSON document
+        text = text.replace(',{"source"', ',\n{"source"').replace('"repetitions":[{', '"repetitions":[\n{')
+        try:
+            path.write_text(text + "\n", encoding="utf-8")
+        except OSError as error:
+            raise UserError(f"{path}: cannot write the learned gesture ({error.strerror})") from None
+
+
+def load(path: Path | str) -> LearnedGesture:
+    """Read and check a learned-gesture file; a bad one is a UserError naming the file and field."""
+    path = Path(path)
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise UserError(f"{path}: no such learned-gesture file (make one with `issv learn NAME TAKE.csv`)") from None
+    except (OSError, UnicodeDecodeError, ValueError) as error:
+        raise UserError(f"{path}: not a learned-gesture file (JSON expected): {error}") from None
+    return from_json(doc, str(path))
+
+
+def _field(doc: dict, key: str, kind, where: str, check=lambda v: True, expect: str = ""):
+    value = doc.get(key)
+    if value is None or not isinstance(value, kind) or isinstance(value, bool) and kind is not bool \
+            or not check(value):
+        raise UserError(f"{where}: {key}: expected {expect or kind.__name__}, got {json.dumps(value)}")
+    return value
+
+
+def from_json(doc: dict, where: str) -> LearnedGesture:
+    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
+        raise UserError(f"{where}: format: expected {FORMAT!r} (a file written by `issv learn`)")
+    if doc.get("version") != VERSION:
+        raise UserError(f"{where}: version: expected {VERSION}, got {json.dumps(doc.get('version'))} "
+                        "(written by a newer issv? update issv)")
+    name = _field(doc, "name", str, where, lambda v: v.strip() != "" and "/" not in v, "a name without /")
+    hands = _field(doc, "hands", str, where, lambda v: v in HANDS, " or ".join(HANDS))
+    number = (int, float)
+    threshold = _field(doc, "threshold", number, where, lambda v: v > 0, "a number > 0")
+    fires_at = _field(doc, "fires_at", number, where, lambda v: 0 < v <= 1, "a number in (0, 1]")
+    rate = _field(doc, "rate_hz", number, where, lambda v: v > 0, "a number > 0")
+    weights = _field(doc, "weights", list, where, lambda v: len(v) == 6 and all(
+        isinstance(w, number) and w >= 0 for w in v), "6 numbers >= 0")
+    reps = []
+    for i, r in enumerate(_field(doc, "repetitions", list, where, lambda v: len(v) > 0, "a list of repetitions")):
+        at = f"{where}: repetitions[{i}]"
+        if not isinstance(r, dict):
+            raise UserError(f"{at}: expected an object with source, start, end, postures")
+        try:
+            postures = np.asarray(r.get("postures"), dtype=float)
+        except (TypeError, ValueError):
+            postures = np.zeros((0,))
+        if postures.ndim != 2 or postures.shape[1] != 6 or len(postures) < 2 or not np.all(np.isfinite(postures)):
+            raise UserError(f"{at}.postures: expected rows of 6 finite numbers (at least 2 rows)")
+        reps.append(TaughtRepetition(str(r.get("source", "?")), float(r.get("start", 0.0)),
+                                     float(r.get("end", 0.0)), postures,
+                                     float(r["score"]) if isinstance(r.get("score"), number) else None))
+    return LearnedGesture(name.strip(), hands, float(threshold), float(fires_at), np.asarray(weights, float),
+                          reps, float(rate))

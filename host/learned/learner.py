@@ -1,0 +1,112 @@
+"""Learning a gesture from takes: cut the repetitions, weigh the hands, derive the threshold.
+
+The threshold comes from the taught repetitions themselves: each repetition is matched, as the
+live recogniser would match it, against the repetitions of the other takes (or, with one take,
+against the others of that take); the scores it gets say how far a new performance of the same
+gesture may lie. The acceptance threshold is THRESHOLD_FACTOR times the THRESHOLD_QUANTILE of
+those scores (chosen on teachers only, see bench/learned.py). A repetition whose score is far above
+the others' is reported by its time so the artist can re-record it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from host.errors import UserError
+from host.learned.features import RATE_HZ
+from host.learned.gesture_file import LearnedGesture, TaughtRepetition
+from host.learned.matcher import Matcher
+from host.learned.segment import find_repetitions
+
+FIRES_AT = 0.5  # a learned gesture completes half way through (the moment it is unmistakable)
+THRESHOLD_QUANTILE = 0.9
+THRESHOLD_FACTOR = 1.0
+THRESHOLD_FLOOR = 0.15  # body units: repetitions alike to the millimetre still leave room for sensor noise
+BOTH_HANDS = 0.4  # the quieter hand counts as used if it moves this share of the busier one
+IDLE_WEIGHT = 0.3  # an unused hand still counts this much: the rest of the body should look alike
+OUTLIER = 2.0  # a repetition scoring this many times the median is reported as far off
+MAX_REPETITIONS = 40  # more teach little that is new and cost time at every frame (10 gestures: 0.3 ms)
+SHORTEST, LONGEST = 0.6, 1.8  # a repetition outside this share of the typical length is not learned
+
+
+@dataclass
+class Take:
+    """One example: its name (file@window), posture times (s) and postures (n, 6)."""
+
+    source: str
+    t: np.ndarray
+    postures: np.ndarray
+
+
+def repetitions(take: Take) -> list[TaughtRepetition]:
+    return [TaughtRepetition(take.source, r.t0, r.t1, take.postures[r.start:r.end])
+            for r in find_repetitions(take.t, take.postures)]
+
+
+def odd_lengths(reps: list[TaughtRepetition]) -> list[TaughtRepetition]:
+    """Repetitions far shorter or longer than the typical one: two run together, or a twitch."""
+    typical = float(np.median([r.duration for r in reps]))
+    return [r for r in reps if not SHORTEST <= r.duration / typical <= LONGEST]
+
+
+def hands_used(reps: list[TaughtRepetition]) -> tuple[str, np.ndarray]:
+    """Which hands move ("left", "right", "both") and the posture weights that follow."""
+    spread = []
+    for hand in (slice(0, 3), slice(3, 6)):
+        spread.append(float(np.median([np.linalg.norm(np.ptp(r.postures[:, hand], axis=0)) for r in reps])))
+    left, right = spread
+    if min(left, right) >= BOTH_HANDS * max(left, right):
+        return "both", np.ones(6)
+    if left > right:
+        return "left", np.array([1.0] * 3 + [IDLE_WEIGHT] * 3)
+    return "right", np.array([IDLE_WEIGHT] * 3 + [1.0] * 3)
+
+
+def loo_scores(gesture: LearnedGesture) -> np.ndarray:
+    """Each repetition's best score against the other takes' repetitions (see the module doc)."""
+    reps = gesture.repetitions
+    sources = {r.source for r in reps}
+    out = np.full(len(reps), np.inf)
+    for i, rep in enumerate(reps):
+        others = [r for r in reps if (r.source != rep.source if len(sources) > 1 else r is not rep)]
+        if not others:
+            continue
+        alone = LearnedGesture(gesture.name, gesture.hands, 1.0, gesture.fires_at, gesture.weights, others)
+        matcher = Matcher([alone])
+        out[i] = min(float(matcher.step(posture)[0]) for posture in rep.postures)
+    return out
+
+
+def learn(name: str, takes: list[Take], fires_at: float = FIRES_AT) -> LearnedGesture:
+    """The learned gesture; UserError when the takes hold fewer than two repetitions."""
+    reps = [r for take in takes for r in repetitions(take)]
+    found = {take.source: sum(r.source == take.source for r in reps) for take in takes}
+    if len(reps) < 2:
+        found = "one repetition" if reps else "no repetition"
+        raise UserError(f"learn {name}: found {found} in {', '.join(t.source for t in takes)}; perform the "
+                        "gesture at least twice, from rest back to rest, with a moment of stillness between")
+    odd = odd_lengths(reps) if len(reps) >= 3 else []
+    reps = [r for r in reps if r not in odd]
+    if len(reps) > MAX_REPETITIONS:
+        reps = [reps[i] for i in np.linspace(0, len(reps) - 1, MAX_REPETITIONS).round().astype(int)]
+    hands, weights = hands_used(reps)
+    gesture = LearnedGesture(name, hands, 1.0, fires_at, weights, reps, RATE_HZ)
+    gesture.left_out = odd
+    gesture.found = found
+    scores = loo_scores(gesture)
+    for rep, score in zip(reps, scores):
+        rep.score = float(score) if np.isfinite(score) else None
+    finite = scores[np.isfinite(scores)]
+    spread = float(np.quantile(finite, THRESHOLD_QUANTILE)) if len(finite) else 1.0
+    gesture.threshold = max(THRESHOLD_FLOOR, THRESHOLD_FACTOR * spread)
+    return gesture
+
+
+def far_off(gesture: LearnedGesture) -> list[TaughtRepetition]:
+    """The repetitions unlike the others (score above OUTLIER times the median score)."""
+    scores = [r.score for r in gesture.repetitions if r.score is not None]
+    if len(scores) < 3:
+        return []
+    limit = OUTLIER * float(np.median(scores))
+    return [r for r in gesture.repetitions if r.score is not None and r.score > limit]

@@ -1,0 +1,139 @@
+"""What every camera source shares: the device's own rate and drops, and surviving an unplug.
+
+A subclass opens its device in `connect()`, releases it in `disconnect()` and waits for the next
+depth image in `grab()`. When no image comes for `STALL_S` seconds the camera is taken as gone:
+that is said once on stderr, the show goes on with the last frame (re-sent at the camera's rate),
+and the device is reopened every `RETRY_S` seconds until it answers again, which is said once too.
+"""
+from __future__ import annotations
+
+import sys
+import time
+from collections import deque
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import numpy as np
+
+from host import DepthFrame, Source
+from host.errors import UserError
+
+
+class EndOfStream(Exception):
+    """A replayed device (a .bag, a fakenect dump) has played its last frame."""
+
+
+@dataclass(frozen=True)
+class Grabbed:
+    """One depth image from the device: millimetres, the device's clock (s), frames it skipped,
+    and when (time.perf_counter()) the library handed it over."""
+
+    depth: np.ndarray
+    device_time: float
+    skipped: int = 0
+    received: float = field(default_factory=time.perf_counter)
+
+
+class LiveCamera(Source):
+    """A depth camera (or a library replaying one at its own pace)."""
+
+    live: ClassVar[bool] = True
+    STALL_S: ClassVar[float] = 2.0
+    RETRY_S: ClassVar[float] = 1.0
+    mirrored: ClassVar[bool] = False  # cameras send their own view
+    width: int
+    height: int  # connect() sets these, the intrinsics and fps
+
+    def connect(self) -> None:
+        raise NotImplementedError
+
+    def disconnect(self) -> None:
+        pass
+
+    def grab(self, timeout: float) -> Grabbed | None:
+        """The next depth image, None after `timeout` seconds without one; EndOfStream on a replay's end."""
+        raise NotImplementedError
+
+    def open(self) -> None:
+        self._arrivals: deque[float] = deque(maxlen=90)
+        self.dropped = 0
+        self._last: DepthFrame | None = None
+        self._lost_at: float | None = None
+        self._retry_at = 0.0
+        self._count = 0
+        self._first_time: float | None = None
+        self._base = 0.0  # source time where the device's clock starts (it may restart on a replug)
+        self.handover_s = 0.0
+        self.connect()
+
+    def close(self) -> None:
+        self.disconnect()
+
+    @property
+    def rate(self) -> float:
+        """Frames per second the device delivered over the last few seconds (0 while lost)."""
+        a = self._arrivals
+        if self._lost_at is not None or len(a) < 2 or a[-1] == a[0]:
+            return 0.0
+        return (len(a) - 1) / (a[-1] - a[0])
+
+    def health(self) -> str:
+        """One line for the HUD: the device's own rate, frames it dropped, and whether it is there."""
+        state = "" if self._lost_at is None else f"  LOST {time.monotonic() - self._lost_at:.0f} s"
+        return f"{self.name} {self.rate:5.1f} Hz  dropped {self.dropped}{state}"
+
+    def read(self) -> DepthFrame | None:
+        if self._lost_at is not None and not self._reconnect():
+            return self._hold()
+        try:
+            got = self.grab(self.STALL_S)
+        except EndOfStream:
+            return None
+        if got is None:
+            self._lose(f"no depth frame for {self.STALL_S:g} s (unplugged?)")
+            return self._hold()
+        now = time.monotonic()
+        self._arrivals.append(now)
+        self.dropped += got.skipped
+        self._first_time = got.device_time if self._first_time is None else self._first_time
+        self._last = DepthFrame(got.depth, self.intrinsics, frame_id=self._count,
+                                timestamp=self._base + got.device_time - self._first_time, mirrored=self.mirrored)
+        self._count += 1
+        self.handover_s = time.perf_counter() - got.received  # what this source adds to the latency
+        return self._last
+
+    def _lose(self, why: str) -> None:
+        print(f"issv: {self.name}: {why}; the show goes on with the last frame, reconnecting every "
+              f"{self.RETRY_S:g} s", file=sys.stderr)
+        self._lost_at = time.monotonic()
+        self._retry_at = self._lost_at + self.RETRY_S
+        self._arrivals.clear()
+        try:
+            self.disconnect()
+        except Exception:  # the device is gone: releasing it may fail too
+            pass
+
+    def _reconnect(self) -> bool:
+        now = time.monotonic()
+        if now < self._retry_at:
+            return False
+        self._retry_at = now + self.RETRY_S
+        try:
+            self.connect()
+        except (UserError, RuntimeError, OSError):
+            return False
+        print(f"issv: {self.name}: camera back after {now - self._lost_at:.1f} s", file=sys.stderr)
+        self._lost_at = None
+        if self._last is not None:  # time goes on from the last frame held, whatever the device's clock says
+            self._base, self._first_time = self._last.timestamp + 1.0 / self.fps, None
+        return True
+
+    def _hold(self) -> DepthFrame | None:
+        """The last frame again, one camera period later (no reading at all if it never sent one)."""
+        time.sleep(1.0 / self.fps)
+        last = self._last or DepthFrame(np.zeros((self.height, self.width), np.uint16), self.intrinsics,
+                                        timestamp=-1.0 / self.fps, mirrored=self.mirrored)
+        self._last = DepthFrame(last.data, last.intrinsics, frame_id=self._count,
+                                timestamp=last.timestamp + 1.0 / self.fps, mirrored=last.mirrored)
+        self._count += 1
+        return self._last

@@ -1,0 +1,96 @@
+"""`webcam`: colour frames from an RGB camera (OpenCV capture) or a video file.
+
+A camera (`device`, an index) is live: `read()` waits for the device. A file (`path`) is paced by
+the host from its frames' timestamps (the video's own clock). `width`, `height` and `fps` ask the
+camera for a mode (it may pick the nearest it has; the frames say what came) and, for a file,
+resize its frames and leave its rate alone. The camera's horizontal field of view (`hfov_deg`,
+most webcams 60-70 degrees) gives the intrinsics that place what a backend finds in millimetres.
+"""
+from __future__ import annotations
+
+import time
+from typing import ClassVar
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from host import ColourFrame, Intrinsics, Source
+from host.errors import UserError
+from host.options import ProfilePath
+
+
+class WebcamOptions(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    device: int | None = Field(None, ge=0, description="camera index (0: the first camera); or give path")
+    path: ProfilePath | None = Field(None, description="a video file to play instead of a camera")
+    width: int = Field(640, gt=0, description="frame width in pixels")
+    height: int = Field(480, gt=0, description="frame height in pixels")
+    fps: float = Field(30.0, gt=0, description="frames per second asked of the camera")
+    hfov_deg: float = Field(62.0, gt=10, lt=170, description="the camera's horizontal field of view, degrees")
+    mirror: bool = Field(False, description="flip the image as a mirror (a selfie view)")
+    loop: bool = Field(False, description="a file starts again at its end")
+
+    @model_validator(mode="after")
+    def _one(self):
+        if (self.device is None) == (self.path is None):
+            raise ValueError("give either device (a camera index, e.g. 0) or path (a video file)")
+        return self
+
+
+class WebcamSource(Source):
+    """OpenCV capture: frames as RGB ColourFrames."""
+
+    name = "webcam"
+    Options = WebcamOptions
+    frames: ClassVar[str] = "colour"
+
+    def __init__(self, options: WebcamOptions | None = None) -> None:
+        super().__init__(options)
+        o = self.options
+        self.live = o.device is not None  # an instance attribute: a camera is live, a file is paced
+        self.fps = o.fps
+        self.intrinsics = self._intrinsics(o.width, o.height)
+        self._capture = None
+
+    def _intrinsics(self, width: int, height: int) -> Intrinsics:
+        import math
+        vfov = math.degrees(2 * math.atan(math.tan(math.radians(self.options.hfov_deg) / 2) * height / width))
+        return Intrinsics.from_fov(width, height, self.options.hfov_deg, vfov)
+
+    def open(self) -> None:
+        import cv2
+        o = self.options
+        what = f"camera {o.device}" if self.live else f"video {o.path}"
+        capture = cv2.VideoCapture(o.device if self.live else str(o.path))
+        if not capture.isOpened():
+            raise UserError(f"source 'webcam': cannot open {what} (is it connected / does the file exist, "
+                            f"in a format OpenCV reads?)")
+        if self.live:
+            capture.set(cv2.CAP_PROP_FRAME_WIDTH, o.width)
+            capture.set(cv2.CAP_PROP_FRAME_HEIGHT, o.height)
+            capture.set(cv2.CAP_PROP_FPS, o.fps)
+        else:
+            rate = capture.get(cv2.CAP_PROP_FPS)
+            self.fps = rate if rate and rate > 0 else o.fps
+        self._capture, self._id, self._start = capture, 0, time.monotonic()
+
+    def read(self) -> ColourFrame | None:
+        import cv2
+        o = self.options
+        ok, bgr = self._capture.read()
+        if not ok and not self.live and o.loop:
+            self._capture.set(cv2.CAP_PROP_POS_FRAMES, 0)
+            ok, bgr = self._capture.read()
+        if not ok:
+            return None
+        if bgr.shape[1] != o.width or bgr.shape[0] != o.height:
+            bgr = cv2.resize(bgr, (o.width, o.height), interpolation=cv2.INTER_AREA)
+        rgb = cv2.cvtColor(cv2.flip(bgr, 1) if o.mirror else bgr, cv2.COLOR_BGR2RGB)
+        rgb.flags.writeable = False
+        t = time.monotonic() - self._start if self.live else self._capture.get(cv2.CAP_PROP_POS_MSEC) / 1000.0
+        self._id += 1
+        return ColourFrame(rgb, self.intrinsics, self._id, t, time.time(), o.mirror)
+
+    def close(self) -> None:
+        if self._capture is not None:
+            self._capture.release()
+            self._capture = None

@@ -1,0 +1,126 @@
+"""Learned gestures end to end on trajectories the tests write (tests/host/learned/performer.py)."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from host.cli import main as issv
+from host.commands.gestures import read_trajectories
+from host.errors import UserError
+from host.learned import gesture_file
+from host.learned.examples import parse_example, read_take
+from host.learned.learner import learn
+from host.learned.recognizer import LearnedRecognizer
+from host.learned.segment import find_repetitions
+from tests.host.learned.performer import Performer, circle, punch, still
+
+
+@pytest.fixture(scope="module")
+def taught(tmp_path_factory) -> tuple[Path, Path]:
+    """circle and punch, each taught by two performers (four repetitions a take)."""
+    d = tmp_path_factory.mktemp("taught")
+    out = []
+    for name, motion in (("circle", circle), ("punch", punch)):
+        takes = []
+        for seed, size in ((1, 520.0), (2, 480.0)):
+            take = d / f"{name}_{seed}.csv"
+            Performer(size_mm=size, seed=seed).write(take, motion, 4)
+            takes.append(read_take(str(take), True))
+        path = d / f"{name}.gesture.json"
+        learn(name, takes).save(path)
+        out.append(path)
+    return out[0], out[1]
+
+
+def completes(files, csv: Path) -> list[tuple[float, str]]:
+    recognizer = LearnedRecognizer.from_files(files, mirrored=True)
+    events = []
+    for frame in read_trajectories(csv):
+        events += [(e.timestamp, e.name) for e in recognizer.update(frame.t, frame.hands, frame.body)]
+    return events
+
+
+def test_the_learner_finds_each_repetition(tmp_path):
+    take = tmp_path / "take.csv"
+    middles = Performer().write(take, circle, 5)
+    t = read_take(str(take), True)
+    reps = find_repetitions(t.t, t.postures)
+    assert len(reps) == 5
+    for rep, middle in zip(reps, middles):
+        assert rep.t0 < middle < rep.t1
+
+
+@pytest.mark.parametrize("performer", [
+    Performer(seed=7), Performer(size_mm=650.0, seed=8), Performer(size_mm=400.0, seed=9),
+    Performer(speed=1.5, seed=10), Performer(speed=0.7, seed=11), Performer(distance_mm=4000.0, seed=12)],
+    ids=["same", "taller", "shorter", "faster", "slower", "farther"])
+def test_another_performer_is_recognised_and_only_as_the_right_gesture(taught, tmp_path, performer):
+    for name, motion in (("circle", circle), ("punch", punch)):
+        csv = tmp_path / f"{name}.csv"
+        middles = performer.write(csv, motion, 3)
+        events = completes(taught, csv)
+        assert [n for _, n in events] == [name] * 3, events
+        for (t, _), middle in zip(events, middles):  # completes around half way, within the motion
+            assert middle - 0.6 < t < middle + 0.8
+
+
+def test_walking_or_standing_triggers_nothing(taught, tmp_path):
+    csv = tmp_path / "walk.csv"
+    Performer(walk_mm_s=600.0, seed=3).write(csv, still, 3)
+    assert completes(taught, csv) == []
+
+
+def test_a_gesture_file_round_trips_and_a_profile_may_override_its_threshold(taught):
+    g = gesture_file.load(taught[0])
+    assert g.name == "circle" and g.hands == "both" and len(g.repetitions) == 8
+    assert gesture_file.load(taught[1]).hands == "right"
+    strict = LearnedRecognizer([g], thresholds={"circle": 1e-6})
+    assert strict.matcher.thresholds[0] == pytest.approx(1e-6)
+
+
+def test_bad_gesture_files_say_which_field(tmp_path, taught):
+    doc = json.loads(taught[0].read_text())
+    doc["fires_at"] = 2
+    bad = tmp_path / "bad.gesture.json"
+    bad.write_text(json.dumps(doc))
+    with pytest.raises(UserError, match=r"bad.gesture.json: fires_at: expected a number in \(0, 1\]"):
+        gesture_file.load(bad)
+    bad.write_text("{not json")
+    with pytest.raises(UserError, match="not a learned-gesture file"):
+        gesture_file.load(bad)
+
+
+def test_example_windows():
+    assert parse_example("take.csv@3.5-6.0") == (Path("take.csv"), 3.5, 6.0)
+    assert parse_example("take.csv@3.5-") == (Path("take.csv"), 3.5, float("inf"))
+    assert parse_example("take.csv") == (Path("take.csv"), 0.0, float("inf"))
+    with pytest.raises(UserError, match="must end after it starts"):
+        parse_example("take.csv@6-3")
+
+
+def test_the_commands_learn_show_and_recognise(tmp_path, capsys):
+    take, probe = tmp_path / "take.csv", tmp_path / "probe.csv"
+    Performer(seed=4).write(take, circle, 6)
+    Performer(size_mm=600.0, seed=5).write(probe, circle, 2)
+    out = tmp_path / "roll.gesture.json"
+    assert issv(["learn", "roll", f"{take}@0-100", "--mirrored", "-o", str(out)]) == 0
+    said = capsys.readouterr().out
+    assert "6 repetitions found" in said and f"wrote {out}" in said
+    assert issv(["learn", "--show", str(out)]) == 0
+    said = capsys.readouterr().out
+    assert "roll: 6 repetitions" in said and "hands: both" in said and "threshold" in said
+    assert out.with_suffix(".png").read_bytes()[:4] == b"\x89PNG"
+    assert issv(["gestures", str(probe), "--mirrored", "--learned", str(out)]) == 0
+    lines = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    learned = [e for e in lines if e.get("native") == "learned"]
+    assert [(e["name"], e["state"]) for e in learned] == [("roll", "complete")] * 2
+    assert learned[0]["hands"] == [1, 2] and 0.5 <= learned[0]["confidence"] <= 1.0
+
+
+def test_one_repetition_is_not_enough(tmp_path, capsys):
+    take = tmp_path / "once.csv"
+    Performer().write(take, punch, 1)
+    assert issv(["learn", "once", str(take), "--mirrored", "-o", str(tmp_path / "x.json")]) == 1
+    assert "found one repetition" in capsys.readouterr().err
