@@ -140,7 +140,8 @@ def soak(profile: Path, seconds: float, size: tuple[int, int] | None, sample_s: 
     warm = next((s for s in samples if s.t >= warmup_s), samples[-1])
     after = [s for s in samples if s.t >= warm.t]
     windows = [window(a, b, latencies) for a, b in zip(samples, samples[1:])]
-    steady = [w for w in windows if w["from_s"] >= warm.t - 1e-6]
+    steady = [w for w in windows if w["from_s"] >= warm.t - 1e-6
+              and w["to_s"] - w["from_s"] >= sample_s / 2]  # the last, partial window is too short to say
     slope = (float(np.polyfit([s.t for s in after], [s.rss_mb for s in after], 1)[0]) * 3600
              if len(after) >= 3 else float("nan"))
     first, last = (steady[0], steady[-1]) if steady else ({}, {})
