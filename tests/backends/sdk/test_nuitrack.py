@@ -138,7 +138,8 @@ def test_a_swipe_still_pending_when_nuitrack_stops_and_the_show_ends_completes(s
     frames = nuitrack_frames(c.swipe())
     ends = next(n for n in range(len(frames)) if frames[n].t >= 1.9)  # the stroke is over, not yet confirmed
     sensor.frames = frames[:ends]
-    with NuitrackBackend(None) as backend:
+    waiting = NuitrackBackend.Options(gestures={"swipe_confirm_s": 0.3})  # still confirming at the cut
+    with NuitrackBackend(None, waiting) as backend:
         played = run(backend)
         assert not any(g.state is GestureState.COMPLETE for f in played for g in f.gestures)
         done = backend.finish()
