@@ -27,10 +27,6 @@ class BodyFrame:
     head: np.ndarray
     vy: float = 0.0
 
-    @property
-    def head_y(self) -> float:
-        return float(self.head[1])
-
 
 def _shared(velocities: list[np.ndarray]) -> np.ndarray:
     """Per axis: the smallest velocity if all hands agree in sign, else 0 (what they all share)."""

@@ -104,7 +104,7 @@ class _HandTrack:
             if t - q.t >= window or q.seen_since != since:
                 break  # the first sample after a gap: the average speed across it, a lower bound
         v = (p - ref.p) / (t - ref.t) if ref is not None and t > ref.t else np.zeros(3)
-        s = Sample(t, p, v, shoulder, float(face[1]), world, body_vy, since, face)
+        s = Sample(t, p, v, shoulder, face, world, body_vy, since)
         self.samples.append(s)
         while self.samples and t - self.samples[0].t > _HISTORY_S:
             self.samples.popleft()
@@ -437,8 +437,8 @@ class _Hand:
         r, tr = self.r, self.tr
         k = self.rec.size(s)
         above = float(s.p[Y]) - (s.head + r.raise_min_above_head_mm * k)
-        clear = float(np.linalg.norm(s.p - s.face)) - r.raise_clear_of_head_mm * k
-        if above < 0 or self.at_head(s):
+        clear = float(np.linalg.norm(s.p - s.face)) - r.raise_clear_of_head_mm * k  # < 0: at the head
+        if above < 0 or clear < 0:
             tr.slow_since = None
             if above < -r.stroke_hysteresis_mm:  # lowered for real: the next raise counts again
                 tr.raised_since, tr.raised_done = None, False

@@ -16,18 +16,22 @@ X, Y, Z = 0, 1, 2
 @dataclass(frozen=True)
 class Sample:
     """One frame of one hand, relative to the body: `p` = hand - torso (mm), `v` its velocity (mm/s);
-    `shoulder` and `head` are the heights of the shoulder line and head centre above the torso,
-    `face` the head centre relative to the torso; `body_vy` is the torso's vertical speed (mm/s)."""
+    `shoulder` is the height of the shoulder line above the torso, `face` the head centre relative
+    to the torso; `body_vy` is the torso's vertical speed (mm/s)."""
 
     t: float
     p: np.ndarray
     v: np.ndarray
     shoulder: float
-    head: float
+    face: np.ndarray
     world: tuple[float, float, float]
     body_vy: float = 0.0
     seen_since: float = 0.0  # since when the hand has been seen without a gap
-    face: np.ndarray | None = None
+
+    @property
+    def head(self) -> float:
+        """Height of the head centre above the torso, mm."""
+        return float(self.face[1])
 
 
 @dataclass(frozen=True)
