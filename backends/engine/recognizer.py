@@ -78,7 +78,8 @@ class _HandTrack:
     samples: deque = field(default_factory=deque)
     refractory_until: float = float("-inf")
     pending: dict[int, Stroke] = field(default_factory=dict)  # per axis: a swipe waiting for confirmation
-    chains: dict[int, list[Stroke]] = field(default_factory=lambda: {X: [], Y: []})  # alternating strokes
+    chains: dict[int, list[Stroke]] = field(default_factory=lambda: {X: [], Y: [], Z: []})  # alternating strokes
+    waving: list[Stroke] = field(default_factory=list)  # alternating side-to-side strokes of a wave
     announced: set = field(default_factory=set)  # IN_PROGRESS already sent, keyed by attempt
     wave_done_at: float = float("-inf")  # start time of the chain whose wave was completed
     raised_since: float | None = None  # when the hand last went up above the head
@@ -321,7 +322,7 @@ class _Hand:
         if chain and not (chain[-1].direction == -stroke.direction
                           and stroke.start.t - chain[-1].end.t <= self.r.oscillation_max_gap_s):
             chain.clear()
-        if (stroke.travel >= self.r.wave_min_amplitude_mm and stroke.dominance >= self.r.oscillation_min_dominance
+        if (stroke.travel >= self.r.oscillation_min_travel_mm and stroke.dominance >= self.r.oscillation_min_dominance
                 and stroke.lowest >= self.r.active_min_height_mm
                 and stroke.end.seen_since == stroke.start.seen_since):  # not lost on the way
             chain.append(stroke)
@@ -338,7 +339,7 @@ class _Hand:
             self.tr.pending[stroke.axis] = stroke
             self.announce(self.swipe_name(stroke), stroke.start.t, self.swipe_confidence(stroke), stroke.end)
         if stroke.axis == X:
-            self.wave(chain, reversed_)
+            self.wave(stroke, reversed_)
 
     def resolve_pending(self, axis: int, in_view: bool = True) -> None:
         """Complete a swipe once it is clear that no comparable stroke the other way follows it; a
@@ -355,33 +356,53 @@ class _Hand:
         self.emit(self.swipe_name(pending), GestureState.COMPLETE, self.swipe_confidence(pending), pending.end)
 
     def wave_stroke(self, stroke: Stroke) -> bool:
+        """One swing of a wave: quick, side to side, the hand up in front of the chest or higher, not
+        lost on the way, and the other hand elsewhere (distances for the performer's size)."""
         r = self.r
-        return (stroke.duration <= r.wave_max_stroke_s and stroke.travel >= r.wave_min_amplitude_mm
-                and stroke.lowest >= stroke.start.shoulder - r.wave_max_below_shoulder_mm
+        k = self.rec.size(stroke.start)
+        return (stroke.duration <= r.wave_max_stroke_s and stroke.travel >= r.wave_min_amplitude_mm * k
+                and stroke.dominance >= r.wave_min_dominance
+                and stroke.lowest >= stroke.start.shoulder - r.wave_max_below_shoulder_mm * k
+                and stroke.end.seen_since == stroke.start.seen_since
+                and self.hands_apart(stroke) >= r.wave_min_hands_apart_mm * k
                 and not self.mirrored_by_other_hand(stroke))
 
-    def wave(self, chain: list[Stroke], reversed_: bool) -> None:
-        run = 0
-        for stroke in reversed(chain):
-            if not self.wave_stroke(stroke):
-                break
-            run += 1
-        if run == 0:
+    def hands_apart(self, stroke: Stroke) -> float:
+        """How near the other hands came to this one during the stroke, mm (inf: no other hand)."""
+        near = float("inf")
+        for other in self.others:
+            theirs = {round(q.t, 4): q.p for q in other.samples if stroke.start.t <= q.t <= stroke.end.t}
+            for q in stroke.samples:
+                p = theirs.get(round(q.t, 4))
+                if p is not None:
+                    near = min(near, float(np.linalg.norm(q.p - p)))
+        return near
+
+    def wave(self, stroke: Stroke, reversed_: bool) -> None:
+        """Count the swings of a wave: alternating wave strokes, each starting soon after the last."""
+        run = self.tr.waving
+        if not self.wave_stroke(stroke):
+            run.clear()
             return
-        first = chain[-run]
-        reversals = run - 1 + int(reversed_)
+        if run and not (run[-1].direction == -stroke.direction
+                        and stroke.start.t - run[-1].end.t <= self.r.oscillation_max_gap_s):
+            run.clear()
+        run.append(stroke)
+        first = run[0]
+        reversals = len(run) - 1 + int(reversed_)
         if first.start.t <= self.tr.wave_done_at:
             return
-        amplitude = float(np.median([s.travel for s in chain[-run:]]))
-        if amplitude < self.r.wave_min_typical_amplitude_mm:
+        k = self.rec.size(first.start)
+        amplitude = float(np.median([s.travel for s in run]))
+        if amplitude < self.r.wave_min_typical_amplitude_mm * k or np.median([s.duration for s in run]) < self.r.wave_min_swing_s:
             return
-        confidence = _confidence(_margin(amplitude, self.r.wave_min_typical_amplitude_mm),
+        confidence = _confidence(_margin(amplitude, self.r.wave_min_typical_amplitude_mm * k),
                                  min(1.0, reversals / (2 * self.r.wave_min_reversals)))
         if reversals >= self.r.wave_min_reversals:
-            if self.emit("wave", GestureState.COMPLETE, confidence, chain[-1].end):
+            if self.emit("wave", GestureState.COMPLETE, confidence, stroke.end):
                 self.tr.wave_done_at = first.start.t
         elif reversals >= max(1, self.r.wave_min_reversals - 1):  # one reversal is also a wind-up and its swipe
-            self.announce("wave", first.start.t, confidence, chain[-1].end)
+            self.announce("wave", first.start.t, confidence, stroke.end)
 
     # --- click --------------------------------------------------------------------------------
     def click_like(self, stroke: Stroke) -> bool:
@@ -396,7 +417,7 @@ class _Hand:
         return (stroke.direction < 0 and core.travel >= r.click_min_travel_mm * k
                 and core.peak_speed >= r.click_min_peak_speed_mm_s
                 and core.travel >= r.click_dominance * sideways
-                and self.ends_forward(core, r.click_end_mm * k) >= r.click_dominance
+                and self.ends_forward(core, r.click_end_mm * k) >= r.click_end_dominance
                 and -float(end.p[Z]) >= r.click_min_reach_mm * k
                 and float(end.p[Y]) >= end.shoulder - r.click_max_below_shoulder_mm * k
                 and r.click_min_duration_s <= stroke.duration and core.duration <= r.click_max_duration_s
@@ -423,8 +444,32 @@ class _Hand:
         return min(float(np.linalg.norm(q.v)) for q in (stroke.end, *soon)) <= self.r.click_halt_max_speed_mm_s
 
     def click(self, stroke: Stroke) -> None:
-        if self.click_like(stroke) and self.halted(stroke):
-            self.emit("click", GestureState.COMPLETE, self.click_confidence(stroke), stroke.end)
+        """A push, unless it is the arms' swing of running (the third of alternating strokes back and
+        forth) or both arms rising forward from the sides together (squatting, jumping)."""
+        chain = self.tr.chains[Z]
+        if chain and not (chain[-1].direction == -stroke.direction
+                          and stroke.start.t - chain[-1].end.t <= self.r.oscillation_max_gap_s):
+            chain.clear()
+        if (stroke.travel >= self.r.oscillation_min_travel_mm * self.rec.size(stroke.start)
+                and stroke.duration <= self.r.swing_max_stroke_s):
+            chain.append(stroke)
+        else:
+            chain.clear()
+        if len(chain) >= 4 or not (self.click_like(stroke) and self.halted(stroke)) or self.arms_rising_together(stroke):
+            return
+        self.emit("click", GestureState.COMPLETE, self.click_confidence(stroke), stroke.end)
+
+    def arms_rising_together(self, stroke: Stroke) -> bool:
+        """Did the push start from a hanging hand while another hand rose forward with it?"""
+        core = self.core(stroke)
+        if core.start.p[Y] - core.start.shoulder > -self.r.click_hanging_below_shoulder_mm * self.rec.size(core.start):
+            return False
+        for other in self.others:
+            during = [q for q in other.samples if core.start.t <= q.t <= core.end.t]
+            if len(during) >= 2 and (during[0].p[Z] - during[-1].p[Z] >= self.r.swipe_comparable_ratio * core.travel
+                                     and during[-1].p[Y] - during[0].p[Y] >= self.r.swipe_comparable_ratio * core.travel):
+                return True
+        return False
 
     def click_under_way(self) -> None:
         current = self.tr.strokes[Z].current()

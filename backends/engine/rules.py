@@ -66,19 +66,33 @@ class GestureRules(BaseModel):
     oscillation_max_gap_s: float = Field(
         0.3, ge=0, description="alternating strokes belong to one oscillation (a wave, a back-and-forth) "
         "when the next starts within this long of the previous one's end")
+    oscillation_min_travel_mm: float = Field(
+        100.0, gt=0, description="a stroke this long or longer counts in a back-and-forth: the third of "
+        "alternating strokes is never a swipe")
     oscillation_min_dominance: float = Field(
         1.0, gt=0, description="an oscillation's strokes run mostly along their axis (travel over the "
         "largest travel across it)")
     wave_min_amplitude_mm: float = Field(
-        100.0, gt=0, description="horizontal swing of every side-to-side stroke of a wave")
+        40.0, gt=0, description="horizontal swing of every side-to-side stroke of a wave (a hand waving "
+        "from the wrist swings the hand joint 40-80 mm; below that a skeleton's jitter could count)")
     wave_min_typical_amplitude_mm: float = Field(
-        150.0, gt=0, description="median swing of the wave's strokes (a forearm waving about the elbow "
-        "swings the hand 20-40 cm; hands clapping or rubbing move less)")
-    wave_max_stroke_s: float = Field(0.8, gt=0, description="a slower side-to-side stroke is not waving")
+        50.0, gt=0, description="median swing of the wave's strokes (a hand waving from the wrist: 5-10 cm, "
+        "a forearm about the elbow: 20-40 cm, a whole arm more)")
+    wave_min_dominance: float = Field(
+        0.5, gt=0, description="a wave's swing runs at least this much more sideways than up, down or "
+        "forward (a forearm swinging about the elbow moves the hand along an arc)")
+    wave_min_swing_s: float = Field(
+        0.1, ge=0, description="median duration of a wave's swings: nobody waves faster than 5 Hz; "
+        "quicker reversals are a skeleton's jitter or glitches")
+    wave_min_hands_apart_mm: float = Field(
+        400.0, ge=0, description="a wave is made by one hand, the other kept at least this far from it "
+        "(hands clapping, rubbing, at the eyes or on the head are close together)")
+    wave_max_stroke_s: float = Field(0.5, gt=0, description="a slower side-to-side stroke is not waving "
+        "(waves swing at 1-4 Hz: 0.12-0.5 s a swing)")
     wave_min_reversals: int = Field(3, ge=1, description="direction reversals needed: 3 = right-left-right-left")
     wave_max_below_shoulder_mm: float = Field(
-        50.0, description="the waving hand stays no lower than this below the shoulders "
-        "(a clap or a hand rubbing in front of the chest is not a wave)")
+        150.0, description="the waving hand stays no lower than this below the shoulders: in front of "
+        "the chest or higher (a hand swinging at the hip while walking is no wave)")
 
     # --- click / push -------------------------------------------------------------------------
     click_min_travel_mm: float = Field(200.0, gt=0, description="forward travel towards the camera")
@@ -97,6 +111,15 @@ class GestureRules(BaseModel):
         "the motion runs this much more forward than sideways or vertically (a push from a hanging hand "
         "rises as much as it goes forward, but ends straight ahead)")
     click_end_mm: float = Field(150.0, gt=0, description="the last stretch of a push, judged for its direction")
+    click_end_dominance: float = Field(
+        0.4, ge=0, description="over the last `click_end_mm` the hand still heads forward: forward travel "
+        "over sideways or vertical travel (a push from a hanging hand arcs up and forward to the end)")
+    swing_max_stroke_s: float = Field(
+        0.5, gt=0, description="arms swinging back and forth while running or walking take at most this "
+        "long a swing; a push that comes after two such swings back and forth is a swing too")
+    click_hanging_below_shoulder_mm: float = Field(
+        300.0, gt=0, description="a push that starts this far below the shoulders starts from a hanging "
+        "hand; then another hand rising forward with it makes both arms' swing (squat, jump), no push")
     click_min_reach_mm: float = Field(
         400.0, gt=0, description="the push ends at least this far in front of the torso (an arm stretched "
         "out: 500-650 mm; arms swinging while walking, running or kicking stay nearer)")
