@@ -2,7 +2,7 @@
 (OpenNI2's Source/Drivers/OniFile: DataRecords.h, XnStreamCompression.cpp), sharing nothing with
 the `oni` source's path (OpenNI2's C++ player and codec). It reads what the tests need: the depth
 node's properties and each frame's stored values, decoded from the "16zT" codec (PrimeSense's
-16-bit delta code over an embedded table of the values used) or stored raw ("NONE").
+16-bit delta code over an embedded table of the values used), the codec of the real take.
 
 Only the 32-bit record header of files written before OpenNI 1.0.1 is read (the real take in
 tests/data is one); anything else fails with what it found.
@@ -41,12 +41,9 @@ class OniTake:
         """Frame `index` as stored: 16-bit values, row by row."""
         width, height = self.size
         payload = self.frames[index].payload
-        if self.codec == "NONE":
-            values = np.frombuffer(payload, "<u2")
-        elif self.codec == "16zT":
-            values = np.array(decode_16z_table(payload), np.uint16)
-        else:
+        if self.codec != "16zT":
             raise ValueError(f"codec {self.codec!r} is not read by this test reader")
+        values = np.array(decode_16z_table(payload), np.uint16)
         assert values.size == width * height, (values.size, width, height)
         return values.reshape(height, width)
 
