@@ -4,10 +4,13 @@ Uses Debian's `libopenni2-0` (or any OpenNI2 redistributable) through the PyPI `
 bindings (module `openni.openni2`), found by host.devices (shared with the NiTE2 backend).
 
 The OpenNI2 file player paces frames itself (`speed` 1.0 = as recorded), like a camera: the source
-is `live`, and a backend slower than the file sees the newest frame, as it would live.
+is `live`, and a backend slower than the file sees the newest frame, as it would live. With
+`realtime = false` the player runs in OpenNI2's manual mode instead: each read decodes the next
+frame, none is skipped, as fast as the show reads (tests, benchmarks, offline analysis).
 """
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +23,8 @@ from host.options import ProfilePath
 
 DEFAULT_FOV_DEG = (58.0, 45.0)  # PrimeSense / Kinect-class depth camera, when the file does not say
 STALL_S = 2.0  # no frame for this long: the file cannot be played
+CLOSE_SETTLE_S = 0.05  # after stopping the stream, for the player thread to stop walking it
+MANUAL = -1.0  # OpenNI2's playback speed for "one frame per read" (PlayerDevice.cpp: XN_PLAYBACK_SPEED_MANUAL)
 
 
 class OniOptions(BaseModel):
@@ -27,6 +32,8 @@ class OniOptions(BaseModel):
     path: ProfilePath = Field(description="an OpenNI2 recording (.oni)")
     loop: bool = False
     speed: float = Field(1.0, gt=0, le=10, description="OpenNI2 playback speed: 1.0 = as recorded")
+    realtime: bool = Field(True, description="at the recorded pace times `speed` (false: every frame, as fast "
+                                             "as the show reads; `speed` is then unused)")
 
 
 class OniSource(Source):
@@ -76,7 +83,7 @@ class OniSource(Source):
         self.intrinsics = Intrinsics.from_fov(self.width, self.height, *fov_deg)
         self.mirrored = bool(self._try(self.stream.get_mirroring_enabled, True))
         self.frames = int(self._try(lambda: self.device.playback.get_number_of_frames(self.stream), -1))
-        self.device.playback.set_speed(self.options.speed)
+        self.device.playback.set_speed(self.options.speed if self.options.realtime else MANUAL)
         self.device.playback.set_repeat_enabled(self.options.loop)
         self.stream.start()
         self._first_us: int | None = None
@@ -114,6 +121,13 @@ class OniSource(Source):
                           timestamp=(frame.timestamp - self._first_us) / 1e6, mirrored=self.mirrored)
 
     def close(self) -> None:
+        stream = getattr(self, "stream", None)
+        if stream is not None:
+            # OpenNI2's player thread walks its stream list unlocked, busily while a stream is started
+            # (PlayerDevice::MainLoop); closing a started stream edited that list under it and
+            # segfaulted about once in 10-30 closes here. Stopped, the thread idles in 10 ms sleeps.
+            self._try(stream.stop, None)
+            time.sleep(CLOSE_SETTLE_S)
         for thing in ("stream", "device"):
             handle = getattr(self, thing, None)
             if handle is not None:

@@ -16,7 +16,7 @@ import pytest
 from PIL import Image
 
 from backends.engine.backend import OpenISSBackend
-from host import Intrinsics, Side
+from host import Intrinsics, Side, Source
 from host.cli import main as issv
 from host.errors import UserError
 from sources.depth_images import DepthImagesOptions, DepthImagesSource, natural_key
@@ -146,14 +146,16 @@ def test_real_sr305_frames_are_millimetres_of_the_raw_counts(tmp_path):
         assert 450 < np.percentile(person, 5) and np.percentile(person, 95) < 1200  # 0.5-1.1 m (its README)
 
 
-def hands_in(path: Path) -> list[tuple]:
-    backend = OpenISSBackend(DepthImagesSource(DepthImagesOptions(path=str(path))))
+def hands_in(source: Source) -> list[tuple]:
+    """The hands the open engine reports in every frame of a real recording, each checked to be
+    where the depth image has something that near (a measured hand, not a guess)."""
+    backend = OpenISSBackend(source)
     seen = []
     with backend:
         while (frame := backend.update()) is not None:
             held = {h.position for h in seen[-1]} if seen else set()
             seen.append(tuple(h for h in frame.hands if h.in_view))
-            for h in seen[-1]:  # a measured hand is where the depth image has something that near
+            for h in seen[-1]:
                 if h.position in held:
                     continue  # held where it was last seen (a dropout), not measured in this frame
                 u, v, z = frame.depth.world_to_depth(h.position)
@@ -163,7 +165,7 @@ def hands_in(path: Path) -> list[tuple]:
 
 
 def test_the_open_engine_finds_the_raised_hand_in_real_sr305_frames():
-    seen = hands_in(SR305 / "20210326-231615")
+    seen = hands_in(DepthImagesSource(DepthImagesOptions(path=str(SR305 / "20210326-231615"))))
     assert all(len(hands) == 1 and hands[0].side is Side.RIGHT for hands in seen)  # annotated: right hand
 
 
@@ -172,7 +174,8 @@ def test_whole_sr305_sequences_give_the_raised_right_hand(sequence):
     data = os.environ.get("ISSV_DATA")
     if not data:
         pytest.skip("ISSV_DATA is not set: the real-depth recordings are not here")
-    seen = hands_in(Path(data) / "real-depth" / "realsense-sr305-hands" / sequence)
+    path = Path(data) / "real-depth" / "realsense-sr305-hands" / sequence
+    seen = hands_in(DepthImagesSource(DepthImagesOptions(path=str(path))))
     with_hand = [hands for hands in seen if hands]
     assert len(with_hand) >= len(seen) - 1  # the first frame may only start the track
     assert all(h.side is Side.RIGHT for hands in with_hand for h in hands)

@@ -1,22 +1,31 @@
 """`.oni` files through the real OpenNI2 runtime (Debian's libopenni2-0 + the `openni` bindings).
 
-No real camera recording can be fetched here (no network beyond package registries), so the file
-is made by OpenNI2 itself: its own Recorder, recording its bundled `Dummy` test device. OpenNI2's
-file player opens such a file (streams, frame count, video mode) but delivers none of its frames
-on this machine, so the frame test checks the source reports that clearly instead of hanging.
+A real camera take (tests/data/openni-user, MIT-style, see its ATTRIBUTION.md) is checked against
+a second reader written for the tests (tests/sources/onifile.py: the container and the 16zT codec
+decoded in Python, nothing shared with OpenNI2's C++ player). A file made by OpenNI2's own Recorder
+from its bundled `Dummy` device opens (streams, frame count, video mode) but delivers none of its
+frames on this machine, so that test checks the source reports it clearly instead of hanging.
 """
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
-from host import devices
+from host import Intrinsics, devices
+from host.cli import main as issv
 from host.errors import UserError
 from sources.oni import OniOptions, OniSource
+from tests.recordings import write_profile
+from tests.sources.onifile import read_oni
+from tests.sources.test_depth_images import hands_in
+
+TAKE = Path(__file__).resolve().parents[1] / "data" / "openni-user" / "user_new.oni"
 
 RECORD_DUMMY = """
 import sys
@@ -88,3 +97,61 @@ def test_a_recording_made_by_openni2_opens_and_an_undecodable_one_fails_clearly(
         assert time.monotonic() - start < 10
     finally:
         source.close()
+
+
+def play(**options) -> tuple[OniSource, list, float]:
+    source = OniSource(OniOptions(path=str(TAKE), **options))
+    source.open()
+    start = time.monotonic()
+    try:
+        frames = list(iter(source.read, None))
+    finally:
+        source.close()
+    return source, frames, time.monotonic() - start
+
+
+@needs_runtime
+def test_the_real_take_plays_every_stored_value_as_millimetres():
+    take = read_oni(TAKE)
+    source, frames, _ = play(realtime=False)
+    assert take.codec == "16zT" and take.size == (640, 480) == (source.width, source.height)
+    assert [f.frame_id for f in frames] == [f.number for f in take.frames] == list(range(1, 17))  # none skipped
+    stamps = np.array([f.timestamp_us for f in take.frames])
+    assert [f.timestamp for f in frames] == pytest.approx((stamps - stamps[0]) / 1e6, abs=1e-6)
+    for i, frame in enumerate(frames):
+        assert np.array_equal(frame.data, take.depth(i))  # the file's stored values, bit for bit
+    assert [frames[-1].data[v, u] for v, u in ((240, 320), (100, 100), (400, 200), (300, 420))] == [937, 3129, 1287, 948]
+    # the unit: the camera stored depth values (OutputFormat 1, not shifts), at most 10000 (mm), and
+    # every value is an entry of its own shift-to-millimetre table (S2D) written beside them
+    assert take.properties["OutputFormat"] == 1 and take.properties["MaxDepthValue"] == 10000
+    s2d = np.frombuffer(take.properties["S2D"], "<u2")
+    assert all(np.isin(np.unique(f.data), s2d).all() for f in frames)
+    seen, person = frames[-1].data[frames[-1].data > 0], frames[-1].data[250:450, 300:420]
+    assert 700 < np.percentile(seen, 5) and np.percentile(seen, 99) < 4000  # a room a few metres deep
+    assert 800 < np.median(person) < 1000  # the person stands about 0.9 m away
+    h_fov, v_fov = np.degrees(np.frombuffer(take.properties["xnFOV"], "<f8"))
+    expected = Intrinsics.from_fov(640, 480, h_fov, v_fov).as_list()  # OpenNI2 hands the FOV on as float32
+    assert source.intrinsics.as_list() == pytest.approx(expected, rel=1e-6) and source.mirrored is True
+
+
+@needs_runtime
+def test_the_real_take_is_paced_by_openni2_unless_realtime_is_off():
+    _, paced, seconds = play(speed=4)
+    assert seconds >= 0.8 * 1.735 / 4 and 0 < len(paced) <= 16  # OpenNI2's player keeps the recorded pace
+    assert [f.frame_id for f in paced] == sorted({f.frame_id for f in paced})
+
+
+@needs_runtime
+def test_the_open_engine_finds_no_raised_hand_in_the_real_take():
+    seen = hands_in(OniSource(OniOptions(path=str(TAKE), realtime=False)))
+    assert len(seen) == 16  # a person walks in and stands, arms down (its ATTRIBUTION.md)
+    assert all(h.position[1] < 0 for hands in seen for h in hands)  # any hand found hangs below the camera's axis
+
+
+@needs_runtime
+def test_issv_run_plays_the_real_take_frame_by_frame(tmp_path):
+    prof = write_profile(tmp_path / "p.toml", {"name": "oni", "path": str(TAKE), "realtime": False},
+                         {"name": "openiss"})
+    metrics = tmp_path / "m.json"
+    assert issv(["run", str(prof), "--headless", "--no-reload", "--metrics-json", str(metrics)]) == 0
+    assert json.loads(metrics.read_text())["frames"] == 16
