@@ -1,0 +1,118 @@
+"""Across machines, no extra delay: a profile's capture-to-effect latency run locally, and through
+`issv serve` + the `network` backend on loopback.
+
+    python -m bench.serve [--json] [--profile profiles/demo.toml] [--seconds 20] [--rounds 3]
+
+Each round runs `issv run PROFILE --headless` (local), then `issv serve PROFILE` in one process
+and `issv run` of the same profile with `backend = "network"` in another (network). Both report the
+host's capture -> effect latency (--metrics-json); the capture time travels with the frame. Rounds
+alternate so a change in the machine's load falls on both. Reported: p50/p99 of each run, their
+median over the rounds, and network minus local (target, issue 21: <= 3 ms at p99). The machine's
+load average is printed with every round: on a shared machine, p99 measures CPU starvation too.
+"""
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import tomlkit
+
+from bench.common import parse_args, report
+from bench.network import _free_port
+
+ROOT = Path(__file__).resolve().parents[1]
+TARGET_EXTRA_P99_MS = 3.0
+
+
+def network_profile(profile: Path, connect: str, out: Path) -> Path:
+    """The profile with its source and backend replaced by `network` subscribing to `connect`."""
+    doc = tomlkit.parse(profile.read_text(encoding="utf-8"))
+    doc.pop("source", None)
+    doc["backend"] = {"name": "network", "connect": connect}
+    for effect in doc.get("effects", []):  # relative effect paths stay relative to the original
+        for key, value in effect.items():
+            if isinstance(value, str) and (profile.parent / value).exists() and not Path(value).is_absolute():
+                effect[key] = str((profile.parent / value).resolve())
+    out.write_text(tomlkit.dumps(doc), encoding="utf-8")
+    return out
+
+
+def issv(*args: str) -> list[str]:
+    return [sys.executable, "-m", "host", *args]
+
+
+def run(profile: Path, seconds: float, metrics: Path) -> dict:
+    subprocess.run(issv("run", str(profile), "--headless", "--no-reload", "--seconds", str(seconds),
+                        "--metrics-json", str(metrics)), check=True, cwd=ROOT, stdout=subprocess.DEVNULL,
+                   stderr=subprocess.DEVNULL, timeout=seconds + 120, env={**os.environ, "PYTHONPATH": str(ROOT)})
+    return json.loads(metrics.read_text())["latency_ms"]
+
+
+def served(profile: Path, seconds: float, tmp: Path) -> dict:
+    addr = f"tcp://127.0.0.1:{_free_port()}"
+    log = tmp / "serve.log"  # a file, not a pipe: its live status line must never block it
+    with open(log, "w") as err:
+        serve = subprocess.Popen(issv("serve", str(profile), "--bind", addr, "--seconds", str(seconds + 60)),
+                                 cwd=ROOT, stdout=subprocess.DEVNULL, stderr=err, start_new_session=True,
+                                 env={**os.environ, "PYTHONPATH": str(ROOT)})
+    try:
+        deadline = time.monotonic() + 60
+        while "publishing" not in log.read_text():
+            if serve.poll() is not None or time.monotonic() > deadline:
+                raise RuntimeError(f"issv serve did not start: {log.read_text()[-2000:]}")
+            time.sleep(0.05)
+        return run(network_profile(profile, addr, tmp / "network.toml"), seconds, tmp / "network.json")
+    finally:
+        os.killpg(serve.pid, signal.SIGINT)
+        try:
+            serve.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            os.killpg(serve.pid, signal.SIGKILL)
+            serve.wait()
+
+
+def rounds(profile: Path, seconds: float, n: int) -> list[dict]:
+    out = []
+    with tempfile.TemporaryDirectory(prefix="issv-bench-serve-") as tmp:
+        for i in range(n):
+            load = os.getloadavg()[0]
+            local = run(profile, seconds, Path(tmp) / "local.json")
+            network = served(profile, seconds, Path(tmp))
+            out.append({"round": i + 1, "load": round(load, 2), "load_after": round(os.getloadavg()[0], 2),
+                        "local": local, "network": network})
+            print(f"bench.serve: round {i + 1}: load {load:.1f}, local p50 {local['p50']:.1f} p99 {local['p99']:.1f}"
+                  f" ms, network p50 {network['p50']:.1f} p99 {network['p99']:.1f} ms", file=sys.stderr)
+    return out
+
+
+def main() -> None:
+    args = parse_args(__doc__.splitlines()[0], lambda p: (
+        p.add_argument("--profile", type=Path, default=ROOT / "profiles" / "demo.toml"),
+        p.add_argument("--seconds", type=float, default=20.0, help="seconds per run (default 20)"),
+        p.add_argument("--rounds", type=int, default=3, help="local/network pairs (default 3)")))
+    results = rounds(args.profile.resolve(), args.seconds, args.rounds)
+    median = {mode: {p: float(np.median([r[mode][p] for r in results])) for p in ("p50", "p99")}
+              for mode in ("local", "network")}
+    extra = {p: float(np.median([r["network"][p] - r["local"][p] for r in results])) for p in ("p50", "p99")}
+    figures = {"profile": str(args.profile), "seconds": args.seconds, "rounds": results, "median": median,
+               "extra_ms": extra, "target_extra_p99_ms": TARGET_EXTRA_P99_MS}
+    rows = [[f"round {r['round']} (load {r['load']:.1f}-{r['load_after']:.1f})",
+             f"{r['local']['p50']:.1f} / {r['local']['p99']:.1f}", f"{r['network']['p50']:.1f} / {r['network']['p99']:.1f}",
+             f"{r['network']['p50'] - r['local']['p50']:+.1f} / {r['network']['p99'] - r['local']['p99']:+.1f}"]
+            for r in results]
+    rows.append(["median", f"{median['local']['p50']:.1f} / {median['local']['p99']:.1f}",
+                 f"{median['network']['p50']:.1f} / {median['network']['p99']:.1f}",
+                 f"{extra['p50']:+.1f} / {extra['p99']:+.1f} (target p99 <= +{TARGET_EXTRA_P99_MS:.0f})"])
+    report(f"capture -> effect, {args.profile.name}: local vs issv serve + network on loopback (ms p50 / p99)",
+           figures, rows, ["", "local", "network", "network - local"], args.json)
+
+
+if __name__ == "__main__":
+    main()
