@@ -1,10 +1,11 @@
 """Across machines, no extra delay: a profile's capture-to-effect latency run locally, and through
 `issv serve` + the `network` backend on loopback.
 
-    python -m bench.serve [--json] [--profile profiles/demo.toml] [--seconds 20] [--rounds 3]
+    python -m bench.serve [--json] [--profile profiles/demo.toml] [--seconds S] [--rounds 3]
 
-Each round runs `issv run PROFILE --headless` (local), then `issv serve PROFILE` in one process
-and `issv run` of the same profile with `backend = "network"` in another (network). Both report the
+Each round runs `issv run PROFILE --headless` (local), then `issv run` of the same profile with
+`backend = "network"` in one process and `issv serve PROFILE` in another (network), each until the
+source ends (the demo's performer: 20.5 s) or --seconds. Both report the
 host's capture -> effect latency (--metrics-json); the capture time travels with the frame. Rounds
 alternate so a change in the machine's load falls on both. Reported: p50/p99 of each run, their
 median over the rounds, and network minus local (target, issue 21: <= 3 ms at p99). The machine's
@@ -29,13 +30,15 @@ from bench.network import _free_port
 
 ROOT = Path(__file__).resolve().parents[1]
 TARGET_EXTRA_P99_MS = 3.0
+RUN_TIMEOUT_S = 600.0
 
 
 def network_profile(profile: Path, connect: str, out: Path) -> Path:
-    """The profile with its source and backend replaced by `network` subscribing to `connect`."""
+    """The profile with its source and backend replaced by `network` subscribing to `connect`,
+    ending when the publisher does."""
     doc = tomlkit.parse(profile.read_text(encoding="utf-8"))
     doc.pop("source", None)
-    doc["backend"] = {"name": "network", "connect": connect}
+    doc["backend"] = {"name": "network", "connect": connect, "end_with_publisher": True}
     for effect in doc.get("effects", []):  # relative effect paths stay relative to the original
         for key, value in effect.items():
             if isinstance(value, str) and (profile.parent / value).exists() and not Path(value).is_absolute():
@@ -44,58 +47,84 @@ def network_profile(profile: Path, connect: str, out: Path) -> Path:
     return out
 
 
-def issv(*args: str) -> list[str]:
-    return [sys.executable, "-m", "host", *args]
+def issv(command: str, profile: Path, limit: list[str], log: Path, *args: str) -> subprocess.Popen:
+    """`issv COMMAND PROFILE` in a process group of its own, its stderr to `log` (a file, not a
+    pipe: a live status line must never block it)."""
+    with open(log, "w") as err:
+        return subprocess.Popen([sys.executable, "-m", "host", command, str(profile), *limit, *args], cwd=ROOT,
+                                stdout=subprocess.DEVNULL, stderr=err, start_new_session=True,
+                                env={**os.environ, "PYTHONPATH": str(ROOT)})
 
 
-def run(profile: Path, seconds: float, metrics: Path) -> dict:
-    subprocess.run(issv("run", str(profile), "--headless", "--no-reload", "--seconds", str(seconds),
-                        "--metrics-json", str(metrics)), check=True, cwd=ROOT, stdout=subprocess.DEVNULL,
-                   stderr=subprocess.DEVNULL, timeout=seconds + 120, env={**os.environ, "PYTHONPATH": str(ROOT)})
+def wait_for(log: Path, text: str, proc: subprocess.Popen, timeout: float = 60.0) -> None:
+    deadline = time.monotonic() + timeout
+    while text not in log.read_text():
+        if proc.poll() is not None or time.monotonic() > deadline:
+            raise RuntimeError(f"bench.serve: {log.stem} never said {text!r}: {log.read_text()[-2000:]}")
+        time.sleep(0.05)
+
+
+def stop(proc: subprocess.Popen) -> None:
+    if proc.poll() is None:
+        os.killpg(proc.pid, signal.SIGINT)
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+
+
+def latency(metrics: Path) -> dict:
     return json.loads(metrics.read_text())["latency_ms"]
 
 
-def served(profile: Path, seconds: float, tmp: Path) -> dict:
-    addr = f"tcp://127.0.0.1:{_free_port()}"
-    log = tmp / "serve.log"  # a file, not a pipe: its live status line must never block it
-    with open(log, "w") as err:
-        serve = subprocess.Popen(issv("serve", str(profile), "--bind", addr, "--seconds", str(seconds + 60)),
-                                 cwd=ROOT, stdout=subprocess.DEVNULL, stderr=err, start_new_session=True,
-                                 env={**os.environ, "PYTHONPATH": str(ROOT)})
+def local(profile: Path, limit: list[str], tmp: Path) -> dict:
+    proc = issv("run", profile, limit, tmp / "local.log", "--headless", "--no-reload", "--metrics-json",
+                str(tmp / "local.json"))
     try:
-        deadline = time.monotonic() + 60
-        while "publishing" not in log.read_text():
-            if serve.poll() is not None or time.monotonic() > deadline:
-                raise RuntimeError(f"issv serve did not start: {log.read_text()[-2000:]}")
-            time.sleep(0.05)
-        return run(network_profile(profile, addr, tmp / "network.toml"), seconds, tmp / "network.json")
+        proc.wait(timeout=RUN_TIMEOUT_S)
     finally:
-        os.killpg(serve.pid, signal.SIGINT)
-        try:
-            serve.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            os.killpg(serve.pid, signal.SIGKILL)
-            serve.wait()
+        stop(proc)
+    return latency(tmp / "local.json")
 
 
-def rounds(profile: Path, seconds: float, n: int) -> list[dict]:
+def served(profile: Path, limit: list[str], tmp: Path) -> dict:
+    """The subscriber first (it says when it is waiting), then the publisher: the subscriber sees
+    the profile's frames from the first, and ends when the publisher says goodbye."""
+    addr = f"tcp://127.0.0.1:{_free_port()}"
+    run = issv("run", network_profile(profile, addr, tmp / "network.toml"), [], tmp / "network.log", "--headless",
+               "--no-reload", "--metrics-json", str(tmp / "network.json"))
+    serve = None
+    try:
+        wait_for(tmp / "network.log", "waiting", run)
+        serve = issv("serve", profile, limit, tmp / "serve.log", "--bind", addr)
+        run.wait(timeout=RUN_TIMEOUT_S)
+    finally:
+        for proc in (serve, run):
+            if proc is not None:
+                stop(proc)
+    return latency(tmp / "network.json")
+
+
+def rounds(profile: Path, seconds: float | None, n: int) -> list[dict]:
+    limit = ["--seconds", str(seconds)] if seconds else []
     out = []
     with tempfile.TemporaryDirectory(prefix="issv-bench-serve-") as tmp:
         for i in range(n):
             load = os.getloadavg()[0]
-            local = run(profile, seconds, Path(tmp) / "local.json")
-            network = served(profile, seconds, Path(tmp))
+            here = local(profile, limit, Path(tmp))
+            there = served(profile, limit, Path(tmp))
             out.append({"round": i + 1, "load": round(load, 2), "load_after": round(os.getloadavg()[0], 2),
-                        "local": local, "network": network})
-            print(f"bench.serve: round {i + 1}: load {load:.1f}, local p50 {local['p50']:.1f} p99 {local['p99']:.1f}"
-                  f" ms, network p50 {network['p50']:.1f} p99 {network['p99']:.1f} ms", file=sys.stderr)
+                        "local": here, "network": there})
+            print(f"bench.serve: round {i + 1}: load {load:.1f}, local p50 {here['p50']:.1f} p99 {here['p99']:.1f}"
+                  f" ms, network p50 {there['p50']:.1f} p99 {there['p99']:.1f} ms", file=sys.stderr)
     return out
 
 
 def main() -> None:
     args = parse_args(__doc__.splitlines()[0], lambda p: (
         p.add_argument("--profile", type=Path, default=ROOT / "profiles" / "demo.toml"),
-        p.add_argument("--seconds", type=float, default=20.0, help="seconds per run (default 20)"),
+        p.add_argument("--seconds", type=float, help="source seconds per run (default: until the source ends)"),
         p.add_argument("--rounds", type=int, default=3, help="local/network pairs (default 3)")))
     results = rounds(args.profile.resolve(), args.seconds, args.rounds)
     median = {mode: {p: float(np.median([r[mode][p] for r in results])) for p in ("p50", "p99")}
