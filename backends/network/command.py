@@ -50,7 +50,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--frames", type=int, metavar="N", help="stop after N sensor frames")
     p.add_argument("--seconds", type=float, metavar="S", help="stop after S seconds of source time")
     p.add_argument("--fast", action="store_true", help="do not pace recorded sources")
-    p.add_argument("--stats-json", metavar="FILE", help="write what was published as JSON at exit")
+    p.add_argument("--stats-json", metavar="FILE", help="write what was published (and the show's metrics) as JSON at exit")
 
 
 def published(publisher) -> str:
@@ -107,6 +107,7 @@ def main(args: argparse.Namespace) -> int:
         stats = publisher.stats()
         print(f"issv serve: sent {stats['sent']}, depth skipped {stats['depth_skipped']}, "
               f"compression {stats['compression'] or '-'}x", file=sys.stderr, flush=True)
-        if args.stats_json:
-            Path(args.stats_json).write_text(json.dumps(stats, indent=2) + "\n")
+        if args.stats_json:  # and the show's own metrics (issv run's --metrics-json document)
+            shown = {"metrics": show.metrics.to_json()} if show.metrics is not None else {}
+            Path(args.stats_json).write_text(json.dumps({**stats, **shown}, indent=2) + "\n")
     return 0

@@ -68,6 +68,7 @@ def test_a_swipe_the_clip_ends_on_arrives_before_the_stream_ends(serve, tmp_path
     server.proc.wait(timeout=20)
     sent = json.loads(stats_file.read_text())
     assert sent["compression"] == 1.0 and sent["depth_skipped"] == 0 and sent["sent"]["depth"] == len(depth)
+    assert sent["metrics"]["frames"] == len(depth) and sent["metrics"]["latency_ms"]["p99"] > 0
 
 
 def test_serve_compresses_depth_unless_bound_to_loopback():
