@@ -49,12 +49,11 @@ class PackedChunkIndexes:
 
 
 def pack_chunk_indexes(writer: Writer) -> None:
-    """mcap's Writer has no option for this, so its private list is swapped for PackedChunkIndexes
-    (tests/host/test_recording.py checks it still is, and that standard readers read the result)."""
-    if not isinstance(getattr(writer, "_Writer__chunk_indices", None), list):
-        raise RuntimeError("mcap.Writer no longer keeps its chunk indexes in _Writer__chunk_indices: "
-                           "update host/recording/writer.py for this mcap version")
-    writer._Writer__chunk_indices = PackedChunkIndexes()
+    """mcap's Writer has no option for this, so its private list is swapped for PackedChunkIndexes.
+    An mcap that keeps them elsewhere still records (with the index in memory as objects);
+    tests/host/test_recording.py fails then, and checks that standard readers read the result."""
+    if isinstance(getattr(writer, "_Writer__chunk_indices", None), list):
+        writer._Writer__chunk_indices = PackedChunkIndexes()
 
 
 class RecordingWriter:
