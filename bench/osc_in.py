@@ -32,7 +32,7 @@ from pathlib import Path
 from backends.oscin.backend import OscInBackend, OscInOptions
 from backends.oscin.decode import time_tag
 from bench.common import parse_args, percentiles, report
-from effects.osc.wire import Message, encode_bundle
+from host.osc import Message, encode_bundle
 
 TARGET_MS = 1.0
 JOINTS = ("head", "neck", "torso", "l_shoulder", "l_elbow", "l_hand", "r_shoulder", "r_elbow", "r_hand",

@@ -37,6 +37,7 @@ PUBLIC_MODULES = (
     "host.devices",  # the OpenNI2 runtime, shared by what opens OpenNI2 devices and files
     "host.app",  # for plugin commands: a profile's source and backend through the frame loop
     "host.audio",  # the show's sound (level, spectrum, samples) for audio-reactive effects
+    "host.osc",  # OSC 1.0 encoding and message-template placeholders (sent by effects, read by backends)
 )
 
 __all__ = [

@@ -5,24 +5,70 @@ and lets the command see every frame the backend makes, on the sensor thread, be
 can drop one: `issv record` stores them, the network backend's `issv serve` publishes them. The
 pacing, limits, Ctrl-C handling, metrics, lifecycle hooks and the rules for a backend that raises
 are the show's own.
+
+`plugin_class` finds an installed source, backend or effect by name (a lookup, not an import: a
+plugin never imports another), `headless_context` and `EffectCanvas` render effects offscreen
+without a show (`issv isf` feeds a depth view to ISF image inputs). GL loads only when called.
 """
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 from host import profile as profiles
 from host.assemble import make_backend, make_stage
-from host.contracts import Backend
+from host.contracts import Backend, Effect
 from host.errors import UserError
 from host.loop import Limits, Show
 from host.metrics import Metrics
 from host.model import Frame, Gesture
-from host.plugins import default_manager
+from host.plugins import default_manager, default_registry
 from host.status import StatusLine, summary
 from host.tap import SensorTap
 
-__all__ = ["Metrics", "SensorShow", "UserError"]
+if TYPE_CHECKING:
+    import moderngl
+
+__all__ = ["EffectCanvas", "Metrics", "SensorShow", "UserError", "headless_context", "plugin_class"]
+
+
+def plugin_class(kind: str, name: str) -> type:
+    """The installed plugin class `name` of `kind` ("sources", "backends", "effects"); UserError
+    naming what is installed, or why it cannot run here."""
+    registry = default_registry()
+    entry = registry.get(kind, name)
+    if entry is None:
+        raise UserError(f"no {kind[:-1]} named {name!r}; installed: {', '.join(registry.names(kind)) or 'none'}")
+    reason = entry.availability()
+    if reason is not None:
+        raise UserError(f"{kind[:-1]} {name!r} cannot run here: {reason}")
+    return entry.cls
+
+
+def headless_context() -> "moderngl.Context":
+    """A standalone OpenGL 3.3 context on EGL (Mesa llvmpipe without a GPU); UserError if none."""
+    from host.render.context import headless_context as make
+    return make()
+
+
+class EffectCanvas:
+    """Draws an effect's `render(target)` for a given frame into a framebuffer of the caller's,
+    with the same target (Layer) a show gives it: the frame's depth and mask textures, blending."""
+
+    def __init__(self, ctx: "moderngl.Context", size: tuple[int, int]) -> None:
+        from host.render.compositor import Layer
+        from host.render.textures import FrameTextures
+        self._textures = FrameTextures(ctx)
+        self._layer = Layer(ctx, size, self._textures)
+
+    def render(self, effect: Effect, frame: Frame, fbo: "moderngl.Framebuffer") -> None:
+        self._textures.frame = self._layer.frame = frame
+        self._layer.fbo = fbo
+        self._layer.use()
+        effect.render(self._layer)
+
+    def release(self) -> None:
+        self._textures.release()
 
 
 class SensorShow:

@@ -110,9 +110,9 @@ class Metrics:
                 _rate(len(r), r[0] if r else None, r[-1] if r else None))
 
     def latency(self, recent: int | None = None) -> dict[str, float]:
-        data = np.frombuffer(self.latencies_ms, dtype=np.float64)
-        if recent:
-            data = data[-recent:]
+        # A slice is a copy, made under the GIL: a numpy view would pin the buffer, and the show
+        # loop appending meanwhile raises BufferError (the recorder reads metrics on its own thread).
+        data = np.frombuffer(self.latencies_ms[-recent:] if recent else self.latencies_ms[:], dtype=np.float64)
         if data.size == 0:
             return {"p50": 0.0, "p95": 0.0, "p99": 0.0}
         p50, p95, p99 = np.percentile(data, [50, 95, 99])

@@ -17,19 +17,6 @@ import host
 
 ROOT = Path(__file__).resolve().parents[1]
 BUILTIN = ("backends", "sources", "effects")
-# Imports that break the rule in code merged while the rule was being written (issue 21); listed
-# exactly, so a new one fails and a fixed one must leave this list. To fix: what `oscin` needs from
-# the osc effect (its wire decoding and presets) and what `issv isf` needs of the renderer and the
-# synthetic source belong in public host modules or behind host.app.
-KNOWN_VIOLATIONS = {
-    "backends/oscin/receiver.py:160 imports effects.osc.wire",
-    "backends/oscin/replay.py:113 imports effects.osc.wire",
-    "backends/oscin/schemes.py:34 imports effects.osc.presets",
-    "effects/isf/trial.py:18 imports host.render.compositor",
-    "effects/isf/trial.py:19 imports host.render.context",
-    "effects/isf/trial.py:20 imports host.render.textures",
-    "effects/isf/trial.py:21 imports sources.synthetic.source",
-}
 THIRD_PARTY = [ROOT / "examples" / name for name in ("issv-gesture-log", "issv2-hands", "snake")] + [
     ROOT / "docs" / "tutorial" / "issv-hand-glow"]
 
@@ -92,14 +79,14 @@ def test_no_plugin_imports_another():
     packages = plugin_packages()
     wrong = [str(i) for name, files in packages.items() for f in files for i in imports(f)
              if top(i.module) in packages and top(i.module) != name]
-    assert sorted(set(wrong) - KNOWN_VIOLATIONS) == [], "plugins share through the public host API, never through each other"
+    assert wrong == [], "plugins share through the public host API, never through each other"
 
 
 def test_plugins_import_only_the_public_host():
     allowed = {"host", *host.PUBLIC_MODULES}
     wrong = [str(i) for files in plugin_packages().values() for f in files for i in imports(f)
              if top(i.module) == "host" and i.module not in allowed]
-    assert sorted(set(wrong) - KNOWN_VIOLATIONS) == [], f"plugins may import from the host only {sorted(allowed)}"
+    assert wrong == [], f"plugins may import from the host only {sorted(allowed)}"
 
 
 def test_every_public_module_exists_and_is_documented():
@@ -115,8 +102,3 @@ def test_the_rule_sees_a_violation(tmp_path):
     bad.write_text("def f():\n    from sources.oni import find_runtime\n    from host import loop\n")
     assert [i.module for i in imports(bad)] == ["sources.oni", "host.loop"]
 
-
-def test_the_known_violations_are_still_there():
-    """When one is fixed, take it off KNOWN_VIOLATIONS so it cannot come back unnoticed."""
-    seen = {str(i) for files in plugin_packages().values() for f in files for i in imports(f)}
-    assert sorted(KNOWN_VIOLATIONS - seen) == []

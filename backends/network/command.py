@@ -8,9 +8,11 @@ is made. Light to import: every `issv` call imports it; the transports load in `
 from __future__ import annotations
 
 import argparse
+import ipaddress
 import json
 import sys
 from pathlib import Path
+from urllib.parse import urlsplit
 
 from host import PluginUnavailable
 from host.errors import UserError
@@ -39,15 +41,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--transport", choices=("zmq", "ros"), default="zmq", help="ZeroMQ (default) or ROS 1 topics")
     p.add_argument("--namespace", default="/openiss", help="ROS topic namespace (default /openiss)")
     p.add_argument("--no-depth", action="store_true", help="send hands and gestures only")
-    p.add_argument("--codec", choices=sorted(CODECS), default=DEFAULT_CODEC,
-                   help=f"lossless depth compression (default {DEFAULT_CODEC})")
+    p.add_argument("--codec", choices=sorted(CODECS),
+                   help=f"lossless depth compression (default: raw when bound to this machine only, where "
+                        f"compressing costs time and saves nothing; {DEFAULT_CODEC} otherwise)")
     p.add_argument("--downscale", type=int, default=1, metavar="N", help="keep every Nth depth pixel and row")
     p.add_argument("--crop", type=crop, metavar="X,Y,W,H", help="send only this part of the depth image")
     p.add_argument("--depth-fps", type=float, metavar="F", help="send at most F depth images per second")
     p.add_argument("--frames", type=int, metavar="N", help="stop after N sensor frames")
     p.add_argument("--seconds", type=float, metavar="S", help="stop after S seconds of source time")
     p.add_argument("--fast", action="store_true", help="do not pace recorded sources")
-    p.add_argument("--stats-json", metavar="FILE", help="write what was published as JSON at exit")
+    p.add_argument("--stats-json", metavar="FILE", help="write what was published (and the show's metrics) as JSON at exit")
 
 
 def published(publisher) -> str:
@@ -56,9 +59,27 @@ def published(publisher) -> str:
             f"depth skipped {s['depth_skipped']}  compression {s['compression'] or '-'}x")
 
 
+def codec_for(codec: str | None, bind: str, transport: str = "zmq") -> str:
+    """--codec if given; else raw on loopback (copying an image is ~0.1 ms, compressing it several
+    ms that every frame would wait for, to save bandwidth loopback does not lack); else the default."""
+    from backends.network.publisher import endpoints
+    from backends.network.wire import DEFAULT_CODEC
+    if codec is not None:
+        return codec
+    if transport == "zmq":
+        host = urlsplit(endpoints(bind)[0]).hostname or ""
+        try:
+            if host == "localhost" or ipaddress.ip_address(host).is_loopback:
+                return "raw"
+        except ValueError:  # a host name: maybe another machine
+            pass
+    return DEFAULT_CODEC
+
+
 def make_publisher(args: argparse.Namespace, backend: str):
     from backends.network.publisher import DepthOptions
-    depth = DepthOptions(not args.no_depth, args.codec, max(1, args.downscale), args.crop, args.depth_fps)
+    codec = codec_for(args.codec, args.bind or DEFAULT_BIND, args.transport)
+    depth = DepthOptions(not args.no_depth, codec, max(1, args.downscale), args.crop, args.depth_fps)
     if args.transport == "ros":
         from backends.network.ros import RosPublisher
         try:
@@ -86,6 +107,7 @@ def main(args: argparse.Namespace) -> int:
         stats = publisher.stats()
         print(f"issv serve: sent {stats['sent']}, depth skipped {stats['depth_skipped']}, "
               f"compression {stats['compression'] or '-'}x", file=sys.stderr, flush=True)
-        if args.stats_json:
-            Path(args.stats_json).write_text(json.dumps(stats, indent=2) + "\n")
+        if args.stats_json:  # and the show's own metrics (issv run's --metrics-json document)
+            shown = {"metrics": show.metrics.to_json()} if show.metrics is not None else {}
+            Path(args.stats_json).write_text(json.dumps({**stats, **shown}, indent=2) + "\n")
     return 0

@@ -10,7 +10,7 @@ Two sockets, two paths (docs/architecture.md: gestures are events, not samples):
 
 Depth is cropped, downscaled and compressed on a worker thread of its own so the sensor thread
 never waits for it; if the worker is still busy when a newer frame comes, the older one is skipped
-(counted, reported in heartbeats).
+(counted, reported in heartbeats). Raw depth (the default on loopback) is sent inline instead.
 """
 from __future__ import annotations
 
@@ -29,6 +29,10 @@ from host.errors import UserError
 HEARTBEAT_S = 0.5
 EVENT_HWM = 1_000_000  # about 9 hours of hands at 30 Hz: in practice never reached
 DEPTH_SNDBUF = 256 * 1024
+# Codecs that only copy the image (~0.1 ms for 640x480) are sent on the sensor thread, after the
+# hands: waking the worker would cost more (it waits for the GIL while the sensor thread makes the
+# next frame: up to Python's 5 ms switch interval), and that wait is the subscriber's depth wait.
+INLINE_CODECS = frozenset({"raw"})
 
 _TCP = re.compile(r"^tcp://(?P<host>[^\s]+):(?P<port>\d{1,5})$")
 
@@ -114,14 +118,18 @@ class _DepthWorker(threading.Thread):
                     return
                 frame_seq, capture, depth = self._slot
                 self._slot = None
-            depth = self.options.shape(depth)
-            self.sent += 1
-            # Step aside between bands: the threads carrying hands and gestures go first.
-            msg = wire.encode_depth(self.session, self.sent, capture, frame_seq, depth, self.options.codec,
-                                    pause=os.sched_yield)
-            self.socket.send(msg, copy=False)
-            self.bytes += len(msg)
-            self.raw_bytes += depth.data.nbytes
+            self.send(frame_seq, capture, depth)
+
+    def send(self, frame_seq: int, capture_time: float, depth: DepthFrame) -> None:
+        """Encode and send one image (on the worker thread, or inline for a codec that only copies)."""
+        depth = self.options.shape(depth)
+        self.sent += 1
+        # Step aside between bands: the threads carrying hands and gestures go first.
+        msg = wire.encode_depth(self.session, self.sent, capture_time, frame_seq, depth, self.options.codec,
+                                pause=os.sched_yield)
+        self.socket.send(msg, copy=False)
+        self.bytes += len(msg)
+        self.raw_bytes += depth.data.nbytes
 
     def close(self) -> None:
         with self._cond:
@@ -188,7 +196,9 @@ class Publisher:
             self.events.send(wire.encode_hands(self.session, self.seq["hands"], frame.capture_time, frame.seq,
                                                frame.timestamp, frame.backend or self.backend, frame.hands,
                                                with_depth))
-            if with_depth:
+            if with_depth and self.depth_options.codec in INLINE_CODECS:
+                self._worker.send(frame.seq, frame.capture_time, frame.depth)
+            elif with_depth:
                 self._worker.offer(frame.seq, frame.capture_time, frame.depth)
             if time.monotonic() - self._last_heartbeat >= HEARTBEAT_S:
                 self._status(wire.HEARTBEAT)

@@ -157,7 +157,7 @@ class Receiver:
             self.warn(f"ignoring {kind} (first: {detail}); counted, reported once")
 
     def _keepalive(self) -> None:
-        from effects.osc.wire import Message, encode, typed
+        from host.osc import Message, encode, typed
         for address, args in self.scheme.keepalive():
             try:
                 self.sock.sendto(encode(Message(address, tuple(typed(a) for a in args)), True), self.keepalive_to)

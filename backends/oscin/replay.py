@@ -110,7 +110,7 @@ def replay(lines: list[Line], host: str, port: int, speed: float = 1.0, bundle: 
            time_tags: bool = False) -> dict:
     """Send the lines at their times; returns what was sent and how late the latest send was."""
     from backends.oscin.decode import time_tag
-    from effects.osc.wire import Message, encode, encode_bundle
+    from host.osc import Message, encode, encode_bundle
     sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     start, datagrams, late = time.perf_counter(), 0, 0.0
     wall = time.time()

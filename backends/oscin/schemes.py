@@ -31,7 +31,7 @@ from typing import Any, Literal, Sequence
 
 from pydantic import BaseModel, ConfigDict, model_validator
 
-from effects.osc.presets import placeholders
+from host.osc import placeholders
 from host import Vec3
 
 

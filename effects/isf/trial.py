@@ -14,11 +14,8 @@ from effects.isf.passes import IsfRenderer, Output
 from effects.isf.shader import IsfShader
 from effects.isf.sound import SoundTextures
 from host import Frame, Stage
+from host.app import EffectCanvas, headless_context, plugin_class
 from host.audio import ToneSound
-from host.render.compositor import Layer
-from host.render.context import headless_context
-from host.render.textures import FrameTextures
-from sources.synthetic.source import SyntheticOptions, SyntheticSource
 
 FPS = 30.0
 DEMO_SECONDS = 2.0  # the synthetic performer has raised a hand by then
@@ -29,7 +26,8 @@ class DemoViews:
 
     def __init__(self, ctx: moderngl.Context, size: tuple[int, int]) -> None:
         self.ctx, self.size = ctx, size
-        self.source = SyntheticSource(SyntheticOptions(width=320, height=240, seed=1))
+        synthetic = plugin_class("sources", "synthetic")
+        self.source = synthetic(synthetic.Options(width=320, height=240, seed=1))
         self.source.open()
         for _ in range(int(DEMO_SECONDS * FPS)):
             self.source.read()
@@ -37,8 +35,7 @@ class DemoViews:
         self.effects = {name: DepthView(DepthView.Options(colormap=name)) for name in ("gray", "turbo")}
         for effect in self.effects.values():
             effect.setup(self.stage)
-        self.textures = FrameTextures(ctx)
-        self.layer = Layer(ctx, size, self.textures)
+        self.canvas = EffectCanvas(ctx, size)
         self.frames: list[dict[str, moderngl.Texture]] = []
         self.fbos: list[moderngl.Framebuffer] = []
 
@@ -49,16 +46,14 @@ class DemoViews:
 
     def _render(self, index: int) -> dict[str, moderngl.Texture]:
         depth = self.source.read()
-        self.textures.frame = self.layer.frame = Frame(index + 1, depth.capture_time, depth)
+        frame = Frame(index + 1, depth.capture_time, depth)
         out = {}
         for name, effect in self.effects.items():
             texture = self.ctx.texture(self.size, 4)
             texture.repeat_x = texture.repeat_y = False
             fbo = self.ctx.framebuffer([texture])
             fbo.clear(0.0, 0.0, 0.0, 1.0)
-            self.layer.fbo = fbo
-            self.layer.use()
-            effect.render(self.layer)
+            self.canvas.render(effect, frame, fbo)
             self.fbos.append(fbo)
             out[name] = texture
         return out
@@ -71,7 +66,7 @@ class DemoViews:
                 texture.release()
         for effect in self.effects.values():
             effect.close()
-        self.textures.release()
+        self.canvas.release()
         self.source.close()
 
 

@@ -18,7 +18,7 @@ from effects.osc.destinations import Address, Destination, Warn, warn_stderr
 from effects.osc.presets import (OSCELETON_TEXT, SYNAPSE_TEXT, TEMPLATE_TEXT, OSCeletonScheme, SynapseScheme,
                                  Template, TemplateScheme)
 from effects.osc.schema import DEFAULT_PREFIX, SCHEMA_TEXT, IssvScheme, Scheme
-from effects.osc.wire import Message, encode, encode_bundle
+from host.osc import Message, encode, encode_bundle
 
 SCHEMES = {"issv": IssvScheme, "osceleton": OSCeletonScheme, "synapse": SynapseScheme}
 DEFAULT_DESTINATION = {"issv": "127.0.0.1:9000", "osceleton": "127.0.0.1:7110", "synapse": "127.0.0.1:12345",

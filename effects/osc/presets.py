@@ -8,16 +8,14 @@ and templates, for patches that expect addresses of their own.
 from __future__ import annotations
 
 import re
-import string
 from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, model_validator
 
-from host import Frame, Gesture, Hand, Side
-
 from effects.osc.coords import Projector
 from effects.osc.schema import Scheme
-from effects.osc.wire import Arg, Message, typed
+from host import Frame, Gesture, Hand, Side
+from host.osc import Arg, Message, placeholders, typed
 
 OSCELETON_TEXT = """\
 OSCeleton preset (scheme = "osceleton"; default destination 127.0.0.1:7110)
@@ -162,14 +160,6 @@ FIELDS = {
                 "x_mm", "y_mm", "z_mm", "confidence"),
 }
 _ALONE = re.compile(r"^\{(\w+)\}$")
-
-
-def placeholders(text: str) -> list[str]:
-    """The {field} names in a template text (also read by the osc-in backend's custom scheme)."""
-    try:
-        return [name for _, name, _, _ in string.Formatter().parse(text) if name is not None]
-    except ValueError as error:
-        raise ValueError(f"{text!r}: {error} (write {{{{ and }}}} for literal braces)") from None
 
 
 class Template(BaseModel):

@@ -8,7 +8,7 @@ from __future__ import annotations
 from host import Frame, Gesture, Hand
 
 from effects.osc.coords import Projector
-from effects.osc.wire import Message
+from host.osc import Message
 
 DEFAULT_PREFIX = "/issv"
 

@@ -16,13 +16,13 @@ import json
 import sys
 from pathlib import Path
 
+from host.app import plugin_class
 from host.commands.gestures import add_learned_argument
 from host.contracts import PluginUnavailable, Stage
 from host.errors import UserError
 from host.learned.backend import LearnedBackend
 from host.learned.recognizer import LearnedRecognizer
 from host.loop import Limits, PacedSource, Show
-from host.plugins import default_registry
 from host.tap import SensorTap
 
 HELP = "track hands and gestures in depth clips (.npz) with a backend; prints event lines"
@@ -32,17 +32,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("clips", nargs="+", type=Path, help="depth clips (.npz, docs/architecture.md)")
     p.add_argument("--backend", default="openiss", help="backend to run (default: openiss)")
     add_learned_argument(p)
-
-
-def _plugin(kind: str, name: str):
-    registry = default_registry()
-    entry = registry.get(kind, name)
-    if entry is None:
-        raise UserError(f"no {kind[:-1]} named {name!r}; installed: {', '.join(registry.names(kind)) or 'none'}")
-    reason = entry.availability()
-    if reason is not None:
-        raise UserError(f"{kind[:-1]} {name!r} cannot run here: {reason}")
-    return entry.cls
 
 
 def track(clip: Path, backend_cls, source_cls, tag: str | None, out, learned: list[Path] = ()) -> None:
@@ -80,10 +69,10 @@ def track(clip: Path, backend_cls, source_cls, tag: str | None, out, learned: li
 
 
 def main(args: argparse.Namespace) -> int:
-    backend_cls = _plugin("backends", args.backend)
+    backend_cls = plugin_class("backends", args.backend)
     if not backend_cls.needs_source:
         raise UserError(f"backend {backend_cls.name!r} does not track depth (it makes its own frames)")
-    source_cls = _plugin("sources", "clip")
+    source_cls = plugin_class("sources", "clip")
     several = len(args.clips) > 1
     for clip in args.clips:
         track(clip, backend_cls, source_cls, str(clip) if several else None, sys.stdout, args.learned)

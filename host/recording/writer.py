@@ -6,6 +6,8 @@ import threading
 import time
 from pathlib import Path
 
+from mcap.data_stream import RecordBuilder
+from mcap.records import ChunkIndex
 from mcap.writer import CompressionType, Writer
 
 from host import __version__
@@ -13,9 +15,45 @@ from host.errors import UserError
 from host.model import DepthFrame, Frame, Gesture
 from host.recording import codec
 
-# Small chunks, flushed at least once a second: a crash loses at most about a second of show.
-CHUNK_BYTES = 64 * 1024
+# A chunk ends at the flush once a second (a crash loses at most about a second of show), or
+# sooner past CHUNK_BYTES. The writer keeps every chunk's index until the end, so chunks are not
+# made smaller than that: an hour of 640x480 depth at 30 Hz is ~3600 chunks, not ~108000.
+CHUNK_BYTES = 4 * 1024 * 1024
 FLUSH_EVERY_S = 1.0
+
+
+class PackedChunkIndexes:
+    """The MCAP writer's chunk indexes, kept as the summary's bytes (~90 per chunk, not ~1 kB of
+    objects), so an hour-long recording's memory does not grow by its index."""
+
+    def __init__(self) -> None:
+        self._data = bytearray()
+        self._count = 0
+
+    def append(self, index: ChunkIndex) -> None:
+        builder = RecordBuilder()
+        index.write(builder)
+        self._data += builder.end()
+        self._count += 1
+
+    def __len__(self) -> int:
+        return self._count
+
+    def __iter__(self):
+        """What Writer.finish() does with each index is `index.write(summary)`: all at once here."""
+        if self._count:
+            yield self
+
+    def write(self, builder: RecordBuilder) -> None:
+        builder.write(self._data)
+
+
+def pack_chunk_indexes(writer: Writer) -> None:
+    """mcap's Writer has no option for this, so its private list is swapped for PackedChunkIndexes.
+    An mcap that keeps them elsewhere still records (with the index in memory as objects);
+    tests/host/test_recording.py fails then, and checks that standard readers read the result."""
+    if isinstance(getattr(writer, "_Writer__chunk_indices", None), list):
+        writer._Writer__chunk_indices = PackedChunkIndexes()
 
 
 class RecordingWriter:
@@ -32,6 +70,7 @@ class RecordingWriter:
             raise UserError(f"{self.path}: cannot write the recording: {error.strerror or error}") from None
         self._lock = threading.Lock()
         self._mcap = Writer(self._file, chunk_size=CHUNK_BYTES, compression=CompressionType.NONE)
+        pack_chunk_indexes(self._mcap)
         self._mcap.start(profile="issv", library=f"issv {__version__}")
         self._mcap.add_metadata("issv", {"format": codec.FORMAT, "issv_version": __version__, **(meta or {})})
         self._channels = {codec.DEPTH: self._mcap.register_channel(codec.DEPTH, codec.DEPTH_ENCODING, 0)}

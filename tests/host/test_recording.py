@@ -18,6 +18,7 @@ from backends.truth import TruthBackend
 from host.errors import UserError
 from host.recording import Recording, RecordingWriter
 from host.recording import codec
+from host.recording import writer as writer_module
 from sources.recording import RecordingSource, RecordingSourceOptions
 from tests.recordings import SYNTH, as_tracked, record, tracked_live, write_profile
 
@@ -74,7 +75,32 @@ def test_a_recording_is_a_source_with_the_same_depth_and_truth(recording):
     assert np.array_equal(retracked[10].depth.data, live[10].depth.data)
 
 
-def test_a_truncated_file_is_read_up_to_the_cut(tmp_path):
+@pytest.fixture
+def small_chunks(monkeypatch):
+    """Chunks of 16 KB: a few seconds of test depth then spans many of them (a show's chunks end
+    at the once-a-second flush; these tests write faster than that)."""
+    monkeypatch.setattr(writer_module, "CHUNK_BYTES", 16 * 1024)
+
+
+def test_a_long_recordings_index_is_kept_packed_and_standard_readers_seek_with_it(tmp_path, small_chunks):
+    live = tracked_live(3.0)
+    with RecordingWriter(tmp_path / "r.mcap") as writer:
+        for frame in live:
+            writer.write_frame(frame)
+        packed = writer._mcap._Writer__chunk_indices
+        assert isinstance(packed, writer_module.PackedChunkIndexes) and len(packed) > 10
+        assert len(packed._data) < 120 * len(packed)  # bytes, not ~1 kB of objects per chunk
+    with open(tmp_path / "r.mcap", "rb") as f:
+        summary = make_reader(f).get_summary()
+    indexes = sorted(summary.chunk_indexes, key=lambda c: c.chunk_start_offset)
+    assert len(indexes) == len(packed) == summary.statistics.chunk_count
+    assert all(a.message_end_time <= b.message_start_time for a, b in zip(indexes, indexes[1:]))
+    with Recording(tmp_path / "r.mcap") as rec:
+        middle = live[len(live) // 2].timestamp
+        assert as_tracked(list(rec.frames(middle - live[0].timestamp))) == as_tracked(live[len(live) // 2:])
+
+
+def test_a_truncated_file_is_read_up_to_the_cut(tmp_path, small_chunks):
     live = tracked_live(3.0)
     whole = write(tmp_path / "whole.mcap", live)
     data = whole.read_bytes()

@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 
 from backends.network.backend import NetworkBackend, NetworkOptions
+from backends.network.command import codec_for
+from backends.network.wire import DEFAULT_CODEC
 from sources.clip import Clip
 from tests.backends.engine.performer import swipe_cut_short
 from tests.backends.network.conftest import (START_S, ROOT, HelperDied, Serve, clip_profile, free_ports,
@@ -26,7 +28,7 @@ def test_frames_arrive_whole_depth_bit_exact(serve, tmp_path, performer_clip):
     port = free_ports()
     stats_file = tmp_path / "sent.json"
     server = serve(str(clip_profile(tmp_path, performer_clip, loop=False)), "--bind", f"tcp://127.0.0.1:{port}",
-                   "--stats-json", str(stats_file))
+                   "--codec", "banded-zstd", "--stats-json", str(stats_file))  # compressed, though on loopback
     clip = Clip(performer_clip)
     truth = {tuple(p) for row in clip.hands for p in row}
     with subscriber(port, end_with_publisher=True, depth_wait_ms=500) as backend:
@@ -50,13 +52,31 @@ def test_frames_arrive_whole_depth_bit_exact(serve, tmp_path, performer_clip):
 
 
 def test_a_swipe_the_clip_ends_on_arrives_before_the_stream_ends(serve, tmp_path):
-    """Only the end of the served clip completes the swipe: it still reaches the subscriber."""
+    """Only the end of the served clip completes the swipe: it still reaches the subscriber, and
+    on loopback depth goes raw (uncompressed, sent with the hands) and still exact."""
     port = free_ports()
     clip = swipe_cut_short(tmp_path / "cut.npz")
-    serve(str(clip_profile(tmp_path, clip, loop=False, backend="openiss")), "--bind", f"tcp://127.0.0.1:{port}")
+    stats_file = tmp_path / "sent.json"
+    server = serve(str(clip_profile(tmp_path, clip, loop=False, backend="openiss")), "--bind",
+                   f"tcp://127.0.0.1:{port}", "--stats-json", str(stats_file))
     with subscriber(port, end_with_publisher=True, depth_wait_ms=500) as backend:
-        gestures = [g for f in iter(backend.update, None) for g in f.gestures]
+        frames = list(iter(backend.update, None))
+    gestures = [g for f in frames for g in f.gestures]
     assert [g.name for g in gestures if g.state.value == "complete"] == ["swipe_left"]
+    depth = Clip(clip).depth
+    assert all(np.array_equal(f.depth.data, depth[f.depth.frame_id]) for f in frames if f.depth is not None)
+    server.proc.wait(timeout=20)
+    sent = json.loads(stats_file.read_text())
+    assert sent["compression"] == 1.0 and sent["depth_skipped"] == 0 and sent["sent"]["depth"] == len(depth)
+    assert sent["metrics"]["frames"] == len(depth) and sent["metrics"]["latency_ms"]["p99"] > 0
+
+
+def test_serve_compresses_depth_unless_bound_to_loopback():
+    assert codec_for(None, "tcp://127.0.0.1:5555") == codec_for(None, "tcp://[::1]:5555") == "raw"
+    assert codec_for(None, "tcp://localhost:5555") == "raw"
+    assert codec_for(None, "tcp://0.0.0.0:5555") == codec_for(None, "tcp://stage-pc:5555") == DEFAULT_CODEC
+    assert codec_for("zstd", "tcp://127.0.0.1:5555") == "zstd"  # --codec always wins
+    assert codec_for(None, "http://127.0.0.1:11311", "ros") == DEFAULT_CODEC
 
 
 BURST = textwrap.dedent("""

@@ -113,7 +113,7 @@ def test_synapse_is_sent_the_keep_alive_it_needs():
     try:
         with backend(scheme="synapse", synapse_port=synapse.port, end_after_idle_s=0.2) as b:
             with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-                from effects.osc.wire import Message, encode
+                from host.osc import Message, encode
                 s.sendto(encode(Message("/righthand_pos_world", (("f", 10.0), ("f", 20.0), ("f", 1500.0))), True),
                          ("127.0.0.1", b.port))
             frames = collect(b)

@@ -1,4 +1,6 @@
-"""OSC 1.0 on the wire: typed arguments, Pure Data type safety, messages and bundles as bytes.
+"""OSC 1.0 on the wire: typed arguments, Pure Data type safety, messages and bundles as bytes;
+and the `{field}` placeholders of OSC message templates (a public host module: the `osc` effect
+sends with it, the `osc-in` backend and `issv osc-replay` use the same encoding and templates).
 
 Every argument carries its OSC type tag explicitly, so what goes out is exactly what the
 address scheme documents. Encoding is done here with `struct` rather than python-osc's
@@ -9,6 +11,7 @@ what this encodes in the tests, next to liblo's oscdump and Pure Data's oscparse
 from __future__ import annotations
 
 import numbers
+import string
 import struct
 from dataclasses import dataclass
 from typing import Any
@@ -97,3 +100,11 @@ def encode_bundle(messages: list[Message], pd: bool, time_tag: int = 1) -> bytes
         data = encode(message, pd)
         parts += [_SIZE(len(data)), data]
     return b"".join(parts)
+
+
+def placeholders(text: str) -> list[str]:
+    """The {field} names in a template text (str.format syntax)."""
+    try:
+        return [name for _, name, _, _ in string.Formatter().parse(text) if name is not None]
+    except ValueError as error:
+        raise ValueError(f"{text!r}: {error} (write {{{{ and }}}} for literal braces)") from None

@@ -1,5 +1,7 @@
 """Typed arguments and Pure Data type safety, checked by decoding the bytes that would be sent."""
-from effects.osc.wire import Message, encode, encode_bundle, pd_safe, typed
+import pytest
+
+from host.osc import Message, encode, encode_bundle, pd_safe, placeholders, typed
 from tests.effects.osc.helpers import decode
 
 
@@ -41,3 +43,9 @@ def test_the_bytes_are_what_python_osc_would_build():
     bundle.add_content(builder.build())
     bundle.add_content(builder.build())
     assert encode_bundle([message, message], pd=False) == bundle.build().dgram
+
+
+def test_template_placeholders_are_the_format_fields_and_a_stray_brace_is_named():
+    assert placeholders("/{side}/xyz {x_mm}{{literal}}") == ["side", "x_mm"]
+    with pytest.raises(ValueError, match=r"'/\{side/xyz'.*write \{\{ and \}\} for literal braces"):
+        placeholders("/{side/xyz")
