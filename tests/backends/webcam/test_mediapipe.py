@@ -23,8 +23,9 @@ def test_the_raised_hand_is_the_performers_left_and_above_the_other():
     with backend:
         while (frame := backend.update()) is not None:
             frames.append(frame)
-            if frame.seq % 25 == 0:
-                masks.append(frame.user_mask)  # made on demand, while the show runs
+            if frame.seq % 25 == 0 or 60 <= frame.seq < 66:  # asked now and then, and frame after frame
+                masks.append(frame.user_mask)  # made on demand (beside the next pose once asked for)
+        label = backend.input_label()
     assert len(frames) == 104
     both = [f for f in frames if {h.side for h in f.hands if h.in_view} == {Side.LEFT, Side.RIGHT}]
     assert len(both) >= 95  # both hands, all the time the performer is in view
@@ -40,3 +41,4 @@ def test_the_raised_hand_is_the_performers_left_and_above_the_other():
     for mask in masks:
         assert mask is not None and mask.shape == (480, 640) and 0.05 < mask.mean() < 0.9
     assert frames[0].depth.width == 640 and not frames[0].depth.data.any()  # geometry only, no readings
+    assert label.startswith("webcam file kinect-desk-hand-rgb.mp4 640x480, ") and " fps, pose " in label
