@@ -38,11 +38,11 @@ def _performance(tmp_path: Path):
 
 @pytest.fixture(scope="module")
 def punch_file(tmp_path_factory) -> Path:
-    d = tmp_path_factory.mktemp("punch")
-    Performer(seed=1).write(d / "take.csv", punch, 4)
-    path = d / "punch.gesture.json"
-    learn("punch", [read_take(str(d / "take.csv"), True)]).save(path)
-    return path
+    """A punch taught by four repetitions of another performer (seed 1)."""
+    take = tmp_path_factory.mktemp("punch") / "take.csv"
+    Performer(seed=1).write(take, punch, 4)
+    learn("punch", [read_take(str(take), True)]).save(take.with_name("punch.gesture.json"))
+    return take.with_name("punch.gesture.json")
 
 
 def test_each_user_of_osc_in_gets_its_own_learned_gestures(tmp_path, punch_file):
