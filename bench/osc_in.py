@@ -207,6 +207,7 @@ def parity(streams: int, speed: float) -> dict | None:
         out[wire] = {"same_lines": sum(r["same_lines"] for r in rows), "bit_exact": sum(r["bit_exact"] for r in rows),
                      "gestures": sum(r["issv_gestures"] for r in rows),
                      "datagrams_lost": sum(r["datagrams_lost"] for r in rows), "rows": rows}
+        out[wire]["target_met"] = out[wire]["same_lines"] == out[wire]["bit_exact"] == len(paths)
     return out
 
 
@@ -237,8 +238,8 @@ def main() -> None:
             w = pa[wire]
             rows.append([f"parity, {label}, sent at {pa['speed']:.0f}x with time tags: {w['same_lines']} of "
                          f"{pa['streams']} MSRC-12 streams print the same {w['gestures']} event lines as issv gestures "
-                         f"--backend osc-in --mirrored; {w['bit_exact']} of {pa['streams']} bit-exact; datagrams lost "
-                         f"{w['datagrams_lost']}", "", "", ""])
+                         f"--backend osc-in --mirrored; {w['bit_exact']} of {pa['streams']} bit-exact (target: all, "
+                         f"{'met' if w['target_met'] else 'MISSED'}); datagrams lost {w['datagrams_lost']}", "", "", ""])
             rows += [[f"  {r['stream']}: {r['issv_gestures']} vs {r['osc_in']} events, {r['datagrams_lost']} "
                       f"datagrams lost", "", "", ""] for r in w["rows"] if not (r["same_lines"] and r["bit_exact"])]
     report("osc-in", f, rows, ["", "p50", "p99", "max"], args.json)
