@@ -40,8 +40,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--speed", type=float, default=1.0, help="playback speed (2: twice as fast; default 1)")
     p.add_argument("--no-bundle", action="store_true", help="send each message alone instead of one bundle per instant")
     p.add_argument("--time-tags", action="store_true",
-                   help="stamp each bundle with its time in the session "
-                        "(osc-in then keeps the session's timing at any --speed)")
+                   help="stamp each bundle with its time in the session, as a time of day "
+                        "(osc-in then reads the session's own times at any --speed)")
 
 
 def _typed(address: str, words: list[str]) -> tuple[tuple[str, object], ...]:
