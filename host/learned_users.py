@@ -34,10 +34,10 @@ class LearnedByUser:
 
     def __init__(self, backend: Backend, gestures: list[Any]) -> None:
         self.inner = backend
-        self.gestures = gestures
-        self.users: dict[int, LearnedRecognizer] = {}
+        self._gestures = gestures
+        self._recognizers: dict[int, LearnedRecognizer] = {}  # private names: the rest is the backend's
         self._frame = _Given()
-        self.anyone = LearnedBackend(self._frame, LearnedRecognizer(gestures))  # frames without users
+        self._anyone = LearnedBackend(self._frame, LearnedRecognizer(gestures))  # frames without users
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self.inner, name)
@@ -46,7 +46,7 @@ class LearnedByUser:
         frame = self.inner.update()
         if frame is None or not frame.users:
             self._frame.frame = frame
-            return self.anyone.update()
+            return self._anyone.update()
         learned: list[Gesture] = []
         for user in frame.users:
             learned += self._user(frame, user)
@@ -54,12 +54,12 @@ class LearnedByUser:
 
     def _user(self, frame: Frame, user: User) -> list[Gesture]:
         if user.state is HandState.LOST:
-            self.users.pop(user.id, None)
+            self._recognizers.pop(user.id, None)
             return []
         mirrored = frame.depth.mirrored if frame.depth is not None else True
-        recognizer = self.users.get(user.id)
+        recognizer = self._recognizers.get(user.id)
         if recognizer is None:
-            recognizer = self.users[user.id] = LearnedRecognizer(self.gestures, mirrored)
+            recognizer = self._recognizers[user.id] = LearnedRecognizer(self._gestures, mirrored)
         t = frame.timestamp if frame.depth is not None else frame.capture_time
         hands = [h for h in frame.hands if h.user_id == user.id]
         body = {name: user.joints[name].position for name in BODY if name in user.joints}
