@@ -8,29 +8,35 @@ Two parts, each through real UDP from another process:
    top (reported apart: the same recogniser every backend runs), and the messages that never
    arrived (target 0).
 2. parity: MSRC-12 skeleton streams (ISSV_DATA/msrc12-dev, G1 lift arms and G3 push right: the
-   ones with gestures in our dictionary) are sent as OSCeleton (hands, torso, head) with each
-   frame's time as the bundle's time tag, `--speed` times faster than real time; osc-in's gestures
-   must equal `issv gestures --mirrored` on the same CSV: the same events (name, state, side) within
-   a frame of each other; those not exact (time, confidence, position within 0.01 mm) are counted:
-   the 32.32 time tags cannot carry the CSV's decimal times bit for bit and the recogniser compares
-   sample intervals exactly, so a timer ending right on a sample may end a frame later. Each stream
+   ones with gestures in our dictionary) are sent as OSCeleton (hands, torso, head), each bundle
+   stamped with the frame's own time in the file as a time of day, `--speed` times faster than
+   real time. osc-in's clock is its time tags' time of day to the nanosecond and it gives
+   positions to 0.01 mm, so it sees the file's own times and 0.1 mm positions back exactly
+   through 32-bit floats: its gestures must be the event lines `issv gestures --backend osc-in
+   --mirrored` prints for the file (hands renumbered: osc-in's 11 and 12 are user 1's), and equal
+   the same recogniser run in-process on the file in every field, to the last bit. Each stream
    goes twice: as OSCeleton (32-bit normalised floats, what the bridge sends) and as 64-bit
-   millimetres through the custom scheme (what the transport alone changes).
+   millimetres through the custom scheme.
    Skipped without ISSV_DATA.
 
 `python -m bench.osc_in [--seconds 10] [--streams 40] [--speed 20] [--json]`
 """
 from __future__ import annotations
 
+import argparse
+import contextlib
+import io
+import json
 import math
 import os
 import subprocess
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 from backends.oscin.backend import OscInBackend, OscInOptions
-from backends.oscin.decode import time_tag
+from backends.oscin.decode import midnight, stamp, time_tag
 from bench.common import parse_args, percentiles, report
 from host.osc import Message, encode_bundle
 
@@ -128,25 +134,29 @@ def _stream_messages(path: Path, wire: str) -> list[tuple[float, list[Message]]]
     return out
 
 
-def _key(g, t0: float) -> tuple:
-    return (g.name, g.state.value, g.side.value, g.timestamp - t0, g.confidence, g.position)
+def _as_in_file(g):
+    """An osc-in gesture as `issv gestures` names it: hands 11 and 12 (user 1) are the file's 1 and 2."""
+    return replace(g, hand_id=g.hand_id % 10 if g.hand_id else 0)
 
 
-def _same(a: tuple, b: tuple, dt: float = 1e-6) -> bool:
-    """One gesture each way: same event, time within `dt`, confidence and position as sent (the
-    wire carries OSCeleton's 32-bit floats: within 0.01 mm)."""
-    return (a[:3] == b[:3] and abs(a[3] - b[3]) <= dt and abs(a[4] - b[4]) <= 1e-4
-            and all(abs(p - q) <= 0.01 for p, q in zip(a[5], b[5])))
+def _issv_gestures(path: Path) -> list[str]:
+    """The event lines of `issv gestures --backend osc-in --mirrored FILE` (the command's own code)."""
+    from host.commands import gestures
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        gestures.main(argparse.Namespace(file=path, backend="osc-in", mirrored=True, learned=[]))
+    return out.getvalue().splitlines()
 
 
-def parity_one(path: Path, speed: float, wire: str = "osceleton") -> tuple[list, list, int]:
-    """(issv gestures --mirrored, osc-in) gestures of one stream sent on `wire` (osceleton, doubles),
-    and how many of its datagrams never arrived."""
+def parity_one(path: Path, speed: float, wire: str = "osceleton") -> dict:
+    """One stream sent on `wire` (osceleton, doubles) with its own times as time tags: osc-in's
+    gestures against `issv gestures` (its event lines) and against its recogniser run in-process
+    on the file (every field of every event, to the last bit)."""
     from host.commands.gestures import read_trajectories, recognizer_for
-    recognizer = recognizer_for("openiss")
+    recognizer = recognizer_for("osc-in")
     frames = list(read_trajectories(path))
-    t0 = frames[0].t
-    expected = [g for f in frames for g in recognizer.update(f.t, f.hands, f.body, True)] + recognizer.finish()
+    exact = [g for f in frames for g in recognizer.update(f.t, f.hands, f.body, True)] + recognizer.finish()
+    lines = _issv_gestures(path)
     stream = _stream_messages(path, wire)
     options = DOUBLES if wire == "doubles" else {}
     with _backend(end_after_idle_s=2.0, lost_timeout_s=30.0, mirrored=True, **options) as backend:
@@ -154,15 +164,17 @@ def parity_one(path: Path, speed: float, wire: str = "osceleton") -> tuple[list,
         sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         sender = _Sender(sock, backend.port, stream, speed)
         sender.start()
-        got = [g for f in _collect(backend) for g in f.gestures]
+        got = [_as_in_file(g) for f in _collect(backend) for g in f.gestures]
         sender.join()
         sock.close()
-    lost = len(stream) - backend.receiver.datagrams
-    return [_key(g, t0) for g in expected], [_key(g, 0.0) for g in got], lost
+    return {"stream": path.name, "issv_gestures": len(lines), "osc_in": len(got),
+            "same_lines": [json.dumps(g.to_json()) for g in got] == lines, "bit_exact": got == exact,
+            "datagrams_lost": len(stream) - backend.receiver.datagrams}
 
 
 class _Sender:
-    """Sends a stream's bundles on a thread with their time tags (t in the stream, not scaled)."""
+    """Sends a stream's bundles on a thread, `speed` times faster than real time, each stamped
+    with its own time in the file as a time of day (osc-in's clock then reads the file's times)."""
 
     def __init__(self, sock, port: int, stream, speed: float) -> None:
         import threading
@@ -176,10 +188,10 @@ class _Sender:
         self.thread.join()
 
     def run(self) -> None:
-        wall, start, t0 = time.time(), time.perf_counter(), self.stream[0][0]
+        origin, start, t0 = midnight(time_tag(time.time())), time.perf_counter(), self.stream[0][0]
         for t, messages in self.stream:
             time.sleep(max(0.0, start + (t - t0) / self.speed - time.perf_counter()))
-            self.sock.sendto(encode_bundle(messages, False, time_tag(wall + t - t0)), ("127.0.0.1", self.port))
+            self.sock.sendto(encode_bundle(messages, False, stamp(origin, t)), ("127.0.0.1", self.port))
 
 
 def parity(streams: int, speed: float) -> dict | None:
@@ -191,19 +203,11 @@ def parity(streams: int, speed: float) -> dict | None:
     paths = paths[::max(1, len(paths) // streams)][:streams]
     out = {"streams": len(paths), "speed": speed}
     for wire in ("osceleton", "doubles"):
-        rows, equal, gestures, late, lost = [], 0, 0, 0, 0
-        for path in paths:
-            expected, got, missing = parity_one(path, speed, wire)
-            lost += missing
-            same = len(expected) == len(got) and all(a[:3] == b[:3] and abs(a[3] - b[3]) <= 1 / 30 + 1e-3
-                                                     for a, b in zip(expected, got))
-            shifted = sum(not _same(a, b) for a, b in zip(expected, got)) if same else 0
-            equal += same
-            gestures += len(expected)
-            late += shifted
-            rows.append({"stream": path.name, "issv_gestures": len(expected), "osc_in": len(got), "equal": same,
-                         "not_exact": shifted, "datagrams_lost": missing})
-        out[wire] = {"equal": equal, "gestures": gestures, "not_exact": late, "datagrams_lost": lost, "rows": rows}
+        rows = [parity_one(path, speed, wire) for path in paths]
+        out[wire] = {"same_lines": sum(r["same_lines"] for r in rows), "bit_exact": sum(r["bit_exact"] for r in rows),
+                     "gestures": sum(r["issv_gestures"] for r in rows),
+                     "datagrams_lost": sum(r["datagrams_lost"] for r in rows), "rows": rows}
+        out[wire]["target_met"] = out[wire]["same_lines"] == out[wire]["bit_exact"] == len(paths)
     return out
 
 
@@ -232,12 +236,12 @@ def main() -> None:
     else:
         for wire, label in (("osceleton", "OSCeleton's 32-bit floats"), ("doubles", "custom scheme, 64-bit mm")):
             w = pa[wire]
-            rows.append([f"parity with issv gestures --mirrored, {label}: {w['equal']} of {pa['streams']} MSRC-12 "
-                         f"streams give the same gestures (sent at {pa['speed']:.0f}x with time tags); of "
-                         f"{w['gestures']} events {w['not_exact']} not exact (a frame apart); datagrams lost "
-                         f"{w['datagrams_lost']}", "", "", ""])
+            rows.append([f"parity, {label}, sent at {pa['speed']:.0f}x with time tags: {w['same_lines']} of "
+                         f"{pa['streams']} MSRC-12 streams print the same {w['gestures']} event lines as issv gestures "
+                         f"--backend osc-in --mirrored; {w['bit_exact']} of {pa['streams']} bit-exact (target: all, "
+                         f"{'met' if w['target_met'] else 'MISSED'}); datagrams lost {w['datagrams_lost']}", "", "", ""])
             rows += [[f"  {r['stream']}: {r['issv_gestures']} vs {r['osc_in']} events, {r['datagrams_lost']} "
-                      f"datagrams lost", "", "", ""] for r in w["rows"] if not r["equal"]]
+                      f"datagrams lost", "", "", ""] for r in w["rows"] if not (r["same_lines"] and r["bit_exact"])]
     report("osc-in", f, rows, ["", "p50", "p99", "max"], args.json)
 
 

@@ -2,8 +2,7 @@
 from __future__ import annotations
 
 from host.contracts import Backend, Source, Stage
-from host.learned.backend import LearnedBackend
-from host.learned.recognizer import LearnedRecognizer
+from host.learned_users import LearnedByUser
 from host.loop import EffectSlot, PacedSource
 from host.profile import Profile
 
@@ -14,8 +13,8 @@ def make_backend(profile: Profile, realtime: bool = True) -> Backend:
     if profile.backend.cls.needs_source and profile.source is not None:
         source = PacedSource(profile.source.cls(profile.source.options), realtime)
     backend = profile.backend.cls(source, profile.backend.options)
-    if profile.learned:  # learned gestures: recognised by the host on this backend's hands
-        return LearnedBackend(backend, LearnedRecognizer(profile.learned))
+    if profile.learned:  # learned gestures: recognised by the host on this backend's hands (per user)
+        return LearnedByUser(backend, profile.learned)
     return backend
 
 

@@ -5,9 +5,13 @@ the host from its frames' timestamps (the video's own clock). `width`, `height` 
 camera for a mode (it may pick the nearest it has; the frames say what came) and, for a file,
 resize its frames and leave its rate alone. The camera's horizontal field of view (`hfov_deg`,
 most webcams 60-70 degrees) gives the intrinsics that place what a backend finds in millimetres.
+Frames are decoded and converted to RGB a frame or two ahead on a thread of their own, so the
+second core does it while the backend works on the frame before.
 """
 from __future__ import annotations
 
+import queue
+import threading
 import time
 from typing import ClassVar
 
@@ -16,6 +20,8 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 from host import ColourFrame, Intrinsics, Source
 from host.errors import UserError
 from host.options import ProfilePath
+
+AHEAD = 2  # frames decoded ahead of the backend
 
 
 class WebcamOptions(BaseModel):
@@ -50,6 +56,7 @@ class WebcamSource(Source):
         self.fps = o.fps
         self.intrinsics = self._intrinsics(o.width, o.height)
         self._capture = None
+        self.dropped = 0  # a camera's frames that made way for newer ones (the backend was behind)
 
     def _intrinsics(self, width: int, height: int) -> Intrinsics:
         import math
@@ -72,8 +79,42 @@ class WebcamSource(Source):
             rate = capture.get(cv2.CAP_PROP_FPS)
             self.fps = rate if rate and rate > 0 else o.fps
         self._capture, self._id, self._start = capture, 0, time.monotonic()
+        self._ended = False
+        self._ahead: queue.Queue[ColourFrame | None] = queue.Queue(maxsize=AHEAD)
+        self._stop = threading.Event()
+        self._reader = threading.Thread(target=self._read_ahead, name="issv-webcam", daemon=True)
+        self._reader.start()
 
     def read(self) -> ColourFrame | None:
+        """The next frame (a file's every frame in order; a camera's newest), None at the end."""
+        if self._ended:
+            return None
+        frame = self._ahead.get()
+        self._ended = frame is None
+        return frame
+
+    def _read_ahead(self) -> None:
+        """Decoding and colour conversion on a thread of their own, beside the backend's work on the
+        frame before. A file's frames all wait their turn; a camera's stale ones make way (dropped)."""
+        while not self._stop.is_set():
+            frame = self._decode()
+            while True:
+                try:
+                    self._ahead.put(frame, timeout=0.1)
+                    break
+                except queue.Full:
+                    if self._stop.is_set():
+                        return
+                    if self.live:  # the backend is behind: the oldest frame goes, the newest waits
+                        try:
+                            self._ahead.get_nowait()
+                            self.dropped += 1
+                        except queue.Empty:
+                            pass
+            if frame is None:
+                return
+
+    def _decode(self) -> ColourFrame | None:
         import cv2
         o = self.options
         ok, bgr = self._capture.read()
@@ -90,7 +131,13 @@ class WebcamSource(Source):
         self._id += 1
         return ColourFrame(rgb, self.intrinsics, self._id, t, time.time(), o.mirror)
 
+    def health(self) -> str | None:
+        """A camera's frames dropped because the backend was behind."""
+        return f"{self.dropped} frames dropped" if self.live and self._capture is not None and self.dropped else None
+
     def close(self) -> None:
         if self._capture is not None:
+            self._stop.set()
+            self._reader.join(timeout=2.0)
             self._capture.release()
             self._capture = None

@@ -4,8 +4,10 @@ OSCeleton, Synapse, NI mate, KinectV2-OSC, MediaPipe-to-OSC bridges or the artis
 (schemes.py) arrive over UDP (receiver.py); each frame the backend drains the complete samples,
 runs each user's recogniser on them (users.py) and reports users, both hands of each and the
 gestures. Frames carry a depth image of no readings with a Kinect v1's geometry (640x480, 57 x 43
-degrees, OSCeleton's sensor), so effects place hands on the stage as on `openiss`; the clock is
-seconds since the first message.
+degrees, OSCeleton's sensor), so effects place hands on the stage as on `openiss`. The clock
+(`Frame.time`, gesture times) is the time of day of the senders' bundle time tags, or of arrival
+for untagged messages (receiver.py): a replay stamped with a session's own times is recognised
+on exactly those times.
 """
 from __future__ import annotations
 

@@ -11,6 +11,7 @@ from typing import Any
 
 IMMEDIATELY = 1
 NTP_UNIX_OFFSET = 2208988800  # seconds from 1900-01-01 (NTP) to 1970-01-01 (Unix)
+DAY = 86400
 
 _I32, _F32, _I64, _F64, _U64 = (struct.Struct(f">{c}") for c in "ifqdQ")
 
@@ -98,3 +99,21 @@ def time_tag(unix: float) -> int:
     seconds = unix + NTP_UNIX_OFFSET
     whole = int(seconds)
     return (whole << 32) | int((seconds - whole) * 2**32)
+
+
+def midnight(tag: int) -> int:
+    """The time tag of midnight (UTC) of the day a tag falls in: the origin of a stream's clock."""
+    return (tag >> 32) // DAY * DAY << 32
+
+
+def stamp(origin: int, seconds: float) -> int:
+    """The time tag `seconds` after `origin` (a midnight), rounded to the tag's 2^-32 s. With
+    integers, not Unix seconds as floats (those keep only half a microsecond today)."""
+    return origin + round(seconds * 2**32)
+
+
+def seconds_since(origin: int, tag: int) -> float:
+    """`stamp`'s inverse, to the nanosecond: a sender's own times with up to nine decimals (a
+    tracker's millisecond clock, a file's 0.1 ms) come back as the very same floats, so a
+    recogniser that compares sample intervals exactly sees the sender's clock, not the wire's."""
+    return round((tag - origin) / 2**32, 9)

@@ -17,7 +17,7 @@ from collections import Counter, deque
 from dataclasses import dataclass
 from typing import Callable
 
-from backends.oscin.decode import IMMEDIATELY, OscError, decode, time_tag
+from backends.oscin.decode import IMMEDIATELY, OscError, decode, midnight, seconds_since, time_tag
 from backends.oscin.schemes import BadMessage, Reading, Scheme, UserEvent
 from host import Joint
 
@@ -29,7 +29,7 @@ KEEPALIVE_S = 1.0  # how often bridges that need it (Synapse) are told to keep s
 class Sample:
     user: int
     joints: dict[str, Joint]
-    t: float  # seconds since the first message: by the sender's time tags, or by arrival times
+    t: float  # the stream's clock (Receiver.seconds): the sender's time tags, or arrival times
     arrival: float  # time.monotonic() at arrival
 
 
@@ -63,7 +63,7 @@ class Receiver:
         self.bad: Counter[str] = Counter()
         self.last_arrival: float | None = None
         self._pending: dict[int, tuple[dict[str, Joint], float]] = {}  # loose messages per user
-        self._origin: int | None = None  # the time tag of the first message: time 0
+        self._origin: int | None = None  # midnight before the first message: time 0
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, name=f"issv-osc-in :{self.port}", daemon=True)
 
@@ -123,11 +123,13 @@ class Receiver:
         self.arrived.set()
 
     def _seconds(self, tag: int) -> float:
-        """Seconds since the first message, subtracted as NTP integers: Unix seconds as floats
-        would keep only 0.2 microseconds, and the recogniser compares sample intervals exactly."""
+        """The stream's clock: the time of day (UTC, seconds since the midnight before the first
+        message) of its time tags, or of arrival, to the nanosecond. A sender that stamps its own
+        times as a time of day (`issv osc-replay --time-tags`) gets them back exactly
+        (decode.seconds_since), so the recogniser sees the sender's clock, not the wire's."""
         if self._origin is None:
-            self._origin = tag
-        return (tag - self._origin) / 2**32
+            self._origin = midnight(tag)
+        return seconds_since(self._origin, tag)
 
     def _loose(self, reading: Reading, t: float) -> None:
         """A joint sent on its own: a sample ends when one of its joints comes again."""

@@ -7,8 +7,10 @@ OSCeleton's own addresses get its documented tags (`/joint` s i f f f, user mess
 arguments are i when written as integers, f when numbers, s otherwise. Lines of one instant (a
 delta of 0 after the first) go out as one bundle, as OSCeleton sent each frame; `--no-bundle`
 sends every message on its own, as Pd's qlist does. `--time-tags` stamps each bundle with its
-instant in the session (from the wall clock at the start, not scaled by `--speed`), so a
-receiver that honours time tags (osc-in does) sees the session's own timing at any speed.
+instant in the session as a time of day (seconds after today's midnight UTC: in the past, so
+a receiver that schedules bundles runs them at once), not scaled by `--speed`; osc-in, whose
+clock is its time tags' time of day, then reads the session's own times exactly
+(`session_seconds` of each line) at any speed.
 """
 from __future__ import annotations
 
@@ -38,8 +40,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--speed", type=float, default=1.0, help="playback speed (2: twice as fast; default 1)")
     p.add_argument("--no-bundle", action="store_true", help="send each message alone instead of one bundle per instant")
     p.add_argument("--time-tags", action="store_true",
-                   help="stamp each bundle with its time in the session "
-                        "(osc-in then keeps the session's timing at any --speed)")
+                   help="stamp each bundle with its time in the session, as a time of day "
+                        "(osc-in then reads the session's own times at any --speed)")
 
 
 def _typed(address: str, words: list[str]) -> tuple[tuple[str, object], ...]:
@@ -106,14 +108,20 @@ def instants(lines: list[Line]) -> list[list[Line]]:
     return groups
 
 
+def session_seconds(line: Line) -> float:
+    """A line's time in the session, in seconds to the nanosecond (the deltas' sum without its
+    float noise): what its time tag carries, as a time of day."""
+    return round(line.at_ms / 1000.0, 9)
+
+
 def replay(lines: list[Line], host: str, port: int, speed: float = 1.0, bundle: bool = True,
            time_tags: bool = False) -> dict:
     """Send the lines at their times; returns what was sent and how late the latest send was."""
-    from backends.oscin.decode import time_tag
+    from backends.oscin.decode import midnight, stamp, time_tag
     from host.osc import Message, encode, encode_bundle
     sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     start, datagrams, late = time.perf_counter(), 0, 0.0
-    wall = time.time()
+    origin = midnight(time_tag(time.time()))
     try:
         for group in instants(lines):
             due = start + group[0].at_ms / 1000.0 / speed
@@ -122,7 +130,7 @@ def replay(lines: list[Line], host: str, port: int, speed: float = 1.0, bundle: 
                 time.sleep(delay)
             late = max(late, time.perf_counter() - due)
             messages = [Message(line.address, line.args) for line in group]
-            tag = time_tag(wall + group[0].at_ms / 1000.0) if time_tags else 1
+            tag = stamp(origin, session_seconds(group[0])) if time_tags else 1
             payloads = [encode_bundle(messages, False, tag)] if bundle else [encode(m, False) for m in messages]
             for data in payloads:
                 sock.sendto(data, (host, port))

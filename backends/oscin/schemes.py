@@ -35,14 +35,24 @@ from host.osc import placeholders
 from host import Vec3
 
 
+MM_DECIMALS = 2
+
+
 @dataclass(frozen=True)
 class Reading:
-    """A joint of a user (a bridge's own user id), in issv millimetres."""
+    """A joint of a user (a bridge's own user id), in issv millimetres to the hundredth.
+
+    No tracker measures finer than a tenth of a millimetre; below that are the wire's 32-bit
+    float digits (OSCeleton's normalised floats come back a few 0.0001 mm off). Rounding gives a
+    tracker's own decimals back exactly, so the recogniser sees the stream as sent."""
 
     user: int
     joint: str
     position: Vec3
     confidence: float = 1.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "position", tuple(round(c, MM_DECIMALS) for c in self.position))
 
 
 @dataclass(frozen=True)

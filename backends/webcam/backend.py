@@ -12,8 +12,11 @@ when an effect asks for it. The same recogniser as every backend runs on the han
 """
 from __future__ import annotations
 
-import math
+import statistics
 import time
+from collections import deque
+from concurrent.futures import Future, ThreadPoolExecutor
+from pathlib import Path
 from typing import ClassVar
 
 import numpy as np
@@ -37,6 +40,7 @@ SIDED = {"shoulder": (L_SHOULDER, R_SHOULDER), "elbow": (L_ELBOW, R_ELBOW), "wri
          "hip": (L_HIP, R_HIP), "knee": (L_KNEE, R_KNEE), "ankle": (L_ANKLE, R_ANKLE), "foot": (L_FOOT, R_FOOT)}
 PALM = {"left": (L_WRIST, L_INDEX, L_PINKY), "right": (R_WRIST, R_INDEX, R_PINKY)}
 USER = 1  # MediaPipe's pose solution follows one person
+RECENT = 60  # frames the HUD's rate and latency are taken over
 
 
 class MediaPipeOptions(BaseModel):
@@ -107,11 +111,15 @@ class MediaPipeBackend(Backend):
         self.pose = mp.solutions.pose.Pose(model_complexity=1, min_detection_confidence=o.min_confidence,
                                            min_tracking_confidence=o.min_confidence)
         self.segmenter = mp.solutions.selfie_segmentation.SelfieSegmentation(model_selection=1) if o.user_mask else None
+        # masks are made on one thread of their own: beside the pose once an effect asks for them
+        self._masks = ThreadPoolExecutor(1, thread_name_prefix="issv-mediapipe-mask") if o.user_mask else None
+        self._asked = False  # an effect asked for the last frame's mask: make the next one beside the pose
         self.users: Users | None = None
         self._seq = 0
         self.blank = BlankDepth()
-        #: seconds from a frame read to its Frame (the bench reads them)
-        self.frame_s: list[float] = []
+        #: seconds from a frame read to its Frame, the latest ones (the HUD's latency)
+        self.frame_s: deque[float] = deque(maxlen=RECENT)
+        self._made: deque[float] = deque(maxlen=RECENT)  # when the latest Frames were made (their rate)
 
     def update(self) -> Frame | None:
         colour = self.source.read()
@@ -122,7 +130,9 @@ class MediaPipeBackend(Backend):
             self.users = Users(lambda: self.recognizer(self.options), self.options.lost_timeout_s, colour.mirrored,
                                self.options.reach_mm)
         now = colour.timestamp  # timeouts in the source's time: a video read faster than real time too
-        result = self.pose.process(colour.rgb)
+        mask = self._masks.submit(self._segment, colour) if self._asked and self._masks is not None else None
+        self._asked = False
+        result = self.pose.process(colour.rgb)  # MediaPipe lets go of the GIL: the mask is made meanwhile
         gestures = []
         if result.pose_world_landmarks is not None:
             joints = self.joints(result, colour)
@@ -132,10 +142,22 @@ class MediaPipeBackend(Backend):
         self._seq += 1
         frame = Frame(self._seq, colour.capture_time, self._depth(colour), hands if self.tracking_hands else (),
                       tuple(gestures) if self.detecting_gestures else (), self.name,
-                      make_user_mask=(lambda: self._mask(colour)) if self.segmenter is not None else None,
+                      make_user_mask=(lambda: self._mask(colour, mask)) if self._masks is not None else None,
                       users=users, time=colour.timestamp)
         self.frame_s.append(time.perf_counter() - start)
+        self._made.append(time.monotonic())
         return frame
+
+    def input_label(self) -> str:
+        """What the HUD and the status line say: the camera or file, its size, the rate Frames come
+        at and the median time from a frame read to its Frame (MediaPipe's latency)."""
+        o = getattr(self.source, "options", None)
+        what = (f"camera {o.device}" if o.device is not None else f"file {Path(str(o.path)).name}") if o else "colour"
+        size = f" {o.width}x{o.height}" if o else ""
+        made = self._made if hasattr(self, "_made") else ()
+        rate = (len(made) - 1) / (made[-1] - made[0]) if len(made) > 1 and made[-1] > made[0] else 0.0
+        latency = f", pose {statistics.median(self.frame_s) * 1000:.0f} ms" if getattr(self, "frame_s", None) else ""
+        return f"webcam {what}{size}, {rate:.0f} fps{latency}"
 
     def finish(self):
         return tuple(self.users.finish(0.0)) if self.users is not None and self.detecting_gestures else ()
@@ -171,13 +193,23 @@ class MediaPipeBackend(Backend):
         return self.blank((colour.width, colour.height), colour.intrinsics, colour.frame_id, colour.timestamp,
                           colour.capture_time, colour.mirrored)
 
-    def _mask(self, colour: ColourFrame) -> np.ndarray | None:
-        if self.segmenter is None:  # asked after the show stopped
-            return None
+    def _mask(self, colour: ColourFrame, made: Future | None) -> np.ndarray | None:
+        """The frame's mask: made beside its pose, or now (the first ask, or a frame no one asked for before)."""
+        self._asked = True
+        if made is None:
+            if self._masks is None:  # asked after the show stopped
+                return None
+            made = self._masks.submit(self._segment, colour)
+        return made.result()
+
+    def _segment(self, colour: ColourFrame) -> np.ndarray | None:
         result = self.segmenter.process(colour.rgb)
         return None if result.segmentation_mask is None else result.segmentation_mask > 0.5
 
     def stop(self) -> None:
+        masks, self._masks = getattr(self, "_masks", None), None
+        if masks is not None:
+            masks.shutdown(wait=True)  # a mask under way is finished before its model closes
         for solution in (getattr(self, "pose", None), getattr(self, "segmenter", None)):
             if solution is not None:
                 solution.close()

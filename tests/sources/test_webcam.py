@@ -47,3 +47,24 @@ def test_device_or_path_and_a_clear_error_when_it_cannot_open(tmp_path):
     source = WebcamSource(WebcamOptions(path=str(tmp_path / "missing.mp4")))
     with pytest.raises(UserError, match="source 'webcam': cannot open video"):
         source.open()
+
+
+def test_frames_read_ahead_come_in_order_and_closing_early_does_not_hang(tmp_path):
+    """Decoded on a thread of its own: every frame of a file once, in order, then None for good;
+    a source closed with frames still decoded ahead stops at once."""
+    import time
+    path = _video(tmp_path / "v.avi", frames=30)
+    source = WebcamSource(WebcamOptions(path=str(path), width=320, height=240))
+    source.open()
+    time.sleep(0.2)  # the reader runs ahead and waits: a file's frames are never dropped
+    ids = []
+    while (frame := source.read()) is not None:
+        ids.append(frame.frame_id)
+    assert ids == list(range(1, 31)) and source.read() is None and source.dropped == 0
+    source.close()
+    looped = WebcamSource(WebcamOptions(path=str(path), width=320, height=240, loop=True))
+    looped.open()
+    assert [looped.read().frame_id for _ in range(45)] == list(range(1, 46))  # past the end, again
+    start = time.monotonic()
+    looped.close()
+    assert time.monotonic() - start < 1.0

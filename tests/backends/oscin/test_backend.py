@@ -65,11 +65,12 @@ def test_two_users_one_stops_and_is_lost_after_the_timeout(tmp_path):
         got = collect(b)
     assert sender.wait(30) == 0
     assert _states(got, 1) == ["new", "tracking", "lost"] and _states(got, 2) == ["new", "tracking", "lost"]
-    lost_2 = next(f.time for f in got for u in f.users if u.id == 2 and u.state is HandState.LOST)
-    lost_1 = next(f.time for f in got for u in f.users if u.id == 1 and u.state is HandState.LOST)
+    start = got[0].time  # untagged: the clock runs from the first message's arrival
+    lost_2 = next(f.time - start for f in got for u in f.users if u.id == 2 and u.state is HandState.LOST)
+    lost_1 = next(f.time - start for f in got for u in f.users if u.id == 1 and u.state is HandState.LOST)
     assert 36 / 30 + 0.3 < lost_2 < 36 / 30 + 1.5  # its last message, then the 0.4 s timeout
     assert lost_1 > lost_2 + 0.2
-    assert any(u.id == 1 and u.state is HandState.TRACKING for f in got if f.time > lost_2 for u in f.users)
+    assert any(u.id == 1 and u.state is HandState.TRACKING for f in got if f.time - start > lost_2 for u in f.users)
     swipes = sorted((g.user_id, g.hand_id, g.side) for f in got for g in f.gestures
                     if g.name == "swipe_right" and g.state.value == "complete")
     assert swipes == [(1, 12, Side.RIGHT), (2, 22, Side.RIGHT)]
@@ -84,11 +85,13 @@ def test_osc_in_gestures_equal_the_recogniser_on_the_same_hands(tmp_path):
     direct += recognizer.finish()
     with backend() as b:
         sender = replay(write_session(tmp_path / "one.txt", frames, bodies=[{1: body}] * 45), b.port)
-        got = [g for f in collect(b) for g in f.gestures]
+        frames = collect(b)
     assert sender.wait(30) == 0
+    got = [g for f in frames for g in f.gestures]
+    start = next(f.time for f in frames if f.users)  # untagged: the first message's arrival
     assert direct and [(g.name, g.side) for g in got] == [(g.name, g.side) for g in direct]
     for a, b_ in zip(got, direct):  # arrival times stand in for the sender's: close, not equal
-        assert a.timestamp == pytest.approx(b_.timestamp, abs=0.05)
+        assert a.timestamp - start == pytest.approx(b_.timestamp, abs=0.05)
         assert a.position == pytest.approx(b_.position, abs=0.01)
 
 

@@ -120,3 +120,23 @@ def test_custom_templates_read_fields_from_address_and_arguments():
         InputTemplate(address="/skel/{side}", args=["{x}", "{y}", "{z}"])
     with pytest.raises(ValueError, match="needs joint"):
         InputTemplate(address="/skel", args=["{x}", "{y}", "{z}"])
+
+
+def test_positions_through_32_bit_floats_come_back_to_the_trackers_own_decimals():
+    """OSCeleton's normalised floats are 32-bit: mm with 0.1 mm decimals come back as the very
+    same floats (the recogniser then sees the stream as the file has it)."""
+    import numpy as np
+    scheme = OSCeletonScheme()
+    for x, y, z in [(-314.3, -17.0, 2900.3), (85.6, -45.6, 2905.7), (1093.7, 837.4, 4087.9), (-0.1, 0.1, 800.2)]:
+        sent = [float(np.float32(v)) for v in ((x + 1280) / 2560, (960 - y) / 1920, z / 1280)]
+        assert sent[0] * 2560 - 1280 != x  # the wire alone does not give them back
+        assert scheme.read("/joint", ["r_hand", 1, *sent])[0].position == (x, y, z)
+
+
+def test_time_tags_carry_a_senders_own_times_back_exactly():
+    """Stamped as a time of day, times with up to nine decimals come back as the same floats."""
+    from backends.oscin.decode import midnight, seconds_since, stamp, time_tag
+    origin = midnight(time_tag(1_795_000_000.25))
+    assert origin == midnight(stamp(origin, 86399.9))  # every tag of the day has the same midnight
+    for t in (0.6832, 1.0, 4.89804842, 29.88997152, 50.4, 3599.9999, 86399.123456789):
+        assert seconds_since(origin, stamp(origin, t)) == t

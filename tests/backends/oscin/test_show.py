@@ -28,3 +28,34 @@ def test_the_stage_profile_runs_on_osc_in_with_its_effects(tmp_path):
     m = json.loads(metrics.read_text())
     assert m["backend"] == "osc-in" and m["frames"] > 20 and m["gestures_by_name"].get("swipe_right") == 1
     assert snapshot.stat().st_size > 0
+
+
+def test_issv_record_and_compare_on_osc_in(tmp_path):
+    """`issv record` on an osc-in profile (a session sent by `issv osc-replay`), then `issv compare`
+    on the recording: the recorded tracks (`replay`) give the user, hands and gestures osc-in found."""
+    frames = [hands_at(1, i) for i in range(60)] + [[]]
+    session = write_session(tmp_path / "s.txt", frames, bodies=[body_at(1)] * 60 + [{}])
+    session.write_text("2000" + session.read_text()[1:])  # the recorder starts meanwhile
+    port = free_port()
+    profile = tmp_path / "osc.toml"
+    profile.write_text(f'[backend]\nname = "osc-in"\nport = {port}\nend_after_idle_s = 1.0\n')
+    recording = tmp_path / "osc.mcap"
+    record = subprocess.Popen([sys.executable, "-m", "host", "record", str(profile), "-o", str(recording)],
+                              cwd=ROOT, env=env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    sender = replay(session, port, "--time-tags")
+    _, err = record.communicate(timeout=120)
+    assert sender.wait(30) == 0 and record.returncode == 0, err
+    from host.recording import Recording
+    with Recording(recording) as rec:
+        recorded = list(rec.frames())
+    assert sum(1 for f in recorded if f.users) > 40 and recorded[0].users[0].state.value == "new"
+    swipes = [g for f in recorded for g in f.gestures if g.name == "swipe_right" and g.state.value == "complete"]
+    assert [(g.user_id, g.hand_id) for g in swipes] == [(1, 12)]
+    out = tmp_path / "cmp"
+    compare = subprocess.run([sys.executable, "-m", "host", "compare", str(recording), "--backends", "replay",
+                              "-o", str(out)], cwd=ROOT, env=env(), capture_output=True, text=True, timeout=120)
+    assert compare.returncode == 0, compare.stderr
+    assert "backend `osc-in`" in (out / "report.md").read_text()
+    events = [json.loads(line) for line in (out / "gestures.jsonl").read_text().splitlines()]
+    assert [(e["backend"], e["name"], e["hand"]) for e in events if e["state"] == "complete"] == [
+        ("replay", "swipe_right", 12)]

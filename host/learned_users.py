@@ -1,0 +1,66 @@
+"""Learned gestures per user, on the backends that report users (osc-in, mediapipe).
+
+The host recognises learned gestures after the backend, on its hands (host/learned/backend.py).
+A backend that reports users (`Frame.users`) may carry several performers: each gets a learned
+recogniser of its own, fed its own hands and its torso and head (as `issv gestures --learned`
+feeds a file's), so two performers' motions never mix, and its events carry its user id, as the
+built-in recogniser's do. Frames without users go to the single recogniser on every hand
+(LearnedBackend), unchanged.
+"""
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+from host.contracts import Backend
+from host.learned.backend import LearnedBackend
+from host.learned.recognizer import LearnedRecognizer
+from host.model import Frame, Gesture, HandState, User
+
+BODY = ("torso", "head")  # the body points the learned features measure the hands against
+
+
+class _Given:
+    """The frame LearnedByUser already read, for LearnedBackend to take as its backend's."""
+
+    frame: Frame | None = None
+
+    def update(self) -> Frame | None:
+        return self.frame
+
+
+class LearnedByUser:
+    """Wraps a backend; `update()` returns its frame with each user's learned gestures appended."""
+
+    def __init__(self, backend: Backend, gestures: list[Any]) -> None:
+        self.inner = backend
+        self._gestures = gestures
+        self._recognizers: dict[int, LearnedRecognizer] = {}  # private names: the rest is the backend's
+        self._frame = _Given()
+        self._anyone = LearnedBackend(self._frame, LearnedRecognizer(gestures))  # frames without users
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.inner, name)
+
+    def update(self) -> Frame | None:
+        frame = self.inner.update()
+        if frame is None or not frame.users:
+            self._frame.frame = frame
+            return self._anyone.update()
+        learned: list[Gesture] = []
+        for user in frame.users:
+            learned += self._user(frame, user)
+        return dataclasses.replace(frame, gestures=frame.gestures + tuple(learned)) if learned else frame
+
+    def _user(self, frame: Frame, user: User) -> list[Gesture]:
+        if user.state is HandState.LOST:
+            self._recognizers.pop(user.id, None)
+            return []
+        mirrored = frame.depth.mirrored if frame.depth is not None else True
+        recognizer = self._recognizers.get(user.id)
+        if recognizer is None:
+            recognizer = self._recognizers[user.id] = LearnedRecognizer(self._gestures, mirrored)
+        t = frame.timestamp if frame.depth is not None else frame.capture_time
+        hands = [h for h in frame.hands if h.user_id == user.id]
+        body = {name: user.joints[name].position for name in BODY if name in user.joints}
+        return [dataclasses.replace(g, user_id=user.id) for g in recognizer.update(t, hands, body)]

@@ -1,0 +1,76 @@
+"""Learned gestures per user: two performers sent over real UDP by `issv osc-replay` to osc-in,
+through the host's wrapper (host.assemble.make_backend, as `issv run` builds it)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from host import GestureType, Hand, HandState, Side
+from host.assemble import make_backend
+from host.learned.examples import read_take
+from host.learned.learner import learn
+from host.learned.recognizer import LearnedRecognizer
+from host.plugins import default_registry
+from host.profile import parse
+from tests.backends.oscin.helpers import collect, replay, write_session
+from tests.host.learned.performer import Performer, circle, punch
+
+APART_MM = 700.0  # user 1 stands left of the middle, user 2 right
+
+
+def _performance(tmp_path: Path):
+    """User 1 punches twice while user 2 rolls its hands twice, side by side, 30 Hz."""
+    one, _ = Performer(seed=3).frames(punch, 2)
+    two, _ = Performer(seed=5, speed=1.3).frames(circle, 2)
+    frames, bodies = [], []
+    for (t, p1), (_, p2) in zip(one, two):
+        hands, body = [], {}
+        for user, points, dx in ((1, p1, -APART_MM), (2, p2, APART_MM)):
+            at = {name: (float(p[0]) + dx, float(p[1]), float(p[2])) for name, p in points.items()}
+            hands += [Hand(1, HandState.TRACKING, at["left"], Side.LEFT, user),
+                      Hand(2, HandState.TRACKING, at["right"], Side.RIGHT, user)]
+            body[user] = {"torso": at["torso"], "head": at["head"]}
+        frames.append(hands)
+        bodies.append(body)
+    return write_session(tmp_path / "duet.txt", frames, bodies=bodies), one
+
+
+@pytest.fixture(scope="module")
+def punch_file(tmp_path_factory) -> Path:
+    """A punch taught by four repetitions of another performer (seed 1)."""
+    take = tmp_path_factory.mktemp("punch") / "take.csv"
+    Performer(seed=1).write(take, punch, 4)
+    learn("punch", [read_take(str(take), True)]).save(take.with_name("punch.gesture.json"))
+    return take.with_name("punch.gesture.json")
+
+
+def test_each_user_of_osc_in_gets_its_own_learned_gestures(tmp_path, punch_file):
+    session, alone = _performance(tmp_path)
+    text = (f'[backend]\nname = "osc-in"\nport = 0\nend_after_idle_s = 0.8\nlost_timeout_s = 0.5\n'
+            f'learned = ["{punch_file}"]\n')
+    profile = parse(text, "show.toml", tmp_path, default_registry())
+    backend = make_backend(profile, realtime=False)
+    backend.init()  # as the frame loop starts a backend
+    backend.start_hand_tracking()
+    backend.start_gesture_detection()
+    try:
+        sender = replay(session, backend.port, "--speed", "2", "--time-tags")
+        frames = collect(backend)
+    finally:
+        backend.stop()
+    assert sender.wait(60) == 0, sender.stderr.read()
+    learned = [g for f in frames for g in f.gestures if g.type is GestureType.LEARNED]
+    # the same performer alone, as `issv gestures --learned` runs a file: hands, torso and head
+    reference = LearnedRecognizer.from_files([punch_file])
+    expected = []
+    for t, points in alone:
+        hands = [Hand(1, HandState.TRACKING, tuple(points["left"]), Side.LEFT),
+                 Hand(2, HandState.TRACKING, tuple(points["right"]), Side.RIGHT)]
+        expected += reference.update(t, hands, {"torso": tuple(points["torso"]), "head": tuple(points["head"])})
+    assert [g.name for g in expected] == ["punch", "punch"]
+    assert [(g.name, g.user_id, g.side) for g in learned] == [("punch", 1, Side.RIGHT)] * 2  # never user 2's roll
+    start = next(f.time for f in frames if f.users)  # the session's first joint: time 0 of the performance
+    for got, want in zip(learned, expected):  # the host sees frames: at 2x some hold two samples
+        assert got.timestamp - start == pytest.approx(want.timestamp, abs=0.2)
+        assert got.hand_id == 12  # user 1's right hand
