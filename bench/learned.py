@@ -103,13 +103,30 @@ def _issv(*args: str) -> str:
     return r.stdout
 
 
-def _completes(stdout: str) -> list[tuple[float, str]]:
-    out = []
-    for line in stdout.splitlines():
-        e = json.loads(line)
-        if e.get("native") == "learned" and e.get("state") == "complete":
-            out.append((float(e["t"]), e["name"]))
-    return out
+def _learned(stdout: str) -> list[tuple[float, str, str]]:
+    """(t, name, state) of every learned-gesture event line."""
+    lines = (json.loads(line) for line in stdout.splitlines())
+    return [(float(e["t"]), e["name"], e["state"]) for e in lines if e.get("native") == "learned"]
+
+
+def _completes(events: list[tuple[float, str, str]]) -> list[tuple[float, str]]:
+    return [(t, name) for t, name, state in events if state == "complete"]
+
+
+def announced(runs: list[list[tuple[float, str, str]]]) -> dict:
+    """How many COMPLETEs an IN_PROGRESS of the same gesture announced (since its last COMPLETE), how early."""
+    leads, total = [], 0
+    for events in runs:
+        since: dict[str, float] = {}
+        for t, name, state in events:
+            if state == "in_progress":
+                since[name] = t  # the latest: an attempt that faded was announced before
+            else:
+                total += 1
+                if name in since:
+                    leads.append(t - since.pop(name))
+    return {"completes": total, "announced_share": len(leads) / max(1, total),
+            "lead_s_p50": float(np.median(leads)) if leads else None}
 
 
 def protocol(folder: Path, workdir: Path, jobs: int = 2) -> tuple[dict, list[Path], float]:
@@ -126,7 +143,10 @@ def protocol(folder: Path, workdir: Path, jobs: int = 2) -> tuple[dict, list[Pat
     checked = streams(folder, CHECKED)
     with ThreadPoolExecutor(jobs) as pool:
         outs = list(pool.map(lambda s: _issv("gestures", str(s[0]), "--mirrored", *learned), checked))
-    return score([(t, _completes(o)) for (_, t), o in zip(checked, outs)]), files, max(learn_s)
+    events = [_learned(o) for o in outs]
+    out = score([(t, _completes(e)) for (_, t), e in zip(checked, events)])
+    out["in_progress"] = announced(events)
+    return out, files, max(learn_s)
 
 
 def recognise(recognizer: LearnedRecognizer, csv: Path) -> list[tuple[float, str]]:
@@ -190,6 +210,9 @@ def main() -> None:
         rows += [[label, g, r, ""] for g, r in s["recall"].items()]
         rows += [[label, f"person {p}", r, ""] for p, r in s["by_person"].items()]
         rows.append([label, "mean recall / false fires", s["mean_recall"], f"{s['false_fire_rate']:.3f}"])
+    ip = checked["in_progress"]
+    rows.append(["p04-p10", "COMPLETEs announced by IN_PROGRESS", ip["announced_share"],
+                 f"median {ip['lead_s_p50'] or 0:.2f} s before"])
     rows.append(["cost", f"{timing['learned_gestures']} gestures, {timing['templates']} templates",
                  timing["ms_per_frame"], f"ms/frame; learn {learn_s:.1f} s"])
     report("Learned gestures (MSRC-12): recall within [-1.5, +1.0] s of the action point",

@@ -323,7 +323,8 @@ def encode_hands(session: int, seq: int, capture_time: float, frame_seq: int, ti
 def encode_gesture(session: int, seq: int, capture_time: float, frame_seq: int, g: Gesture) -> bytes:
     return _json(GESTURE, session, seq, capture_time, {
         "frame": frame_seq, "type": g.type.value, "state": g.state.value, "position": list(g.position),
-        "hand": g.hand_id, "side": g.side.value, "confidence": g.confidence, "t": g.timestamp})
+        "hand": g.hand_id, "side": g.side.value, "confidence": g.confidence, "t": g.timestamp,
+        **({"name": g.label} if g.label else {}), **({"hands": list(g.hands)} if g.hands else {})})
 
 
 def encode_status(kind: int, session: int, seq: int, last: dict[str, int], backend: str,
@@ -418,8 +419,22 @@ def _hands(h: Header, d: dict) -> HandsMsg:
 
 def _gesture(h: Header, d: dict) -> GestureMsg:
     g = Gesture(GestureType(d["type"]), GestureState(d["state"]), _vec(d["position"]), _int(d["hand"]),
-                Side(d["side"]), _num(d["confidence"]), _num(d["t"]))
+                Side(d["side"]), _num(d["confidence"]), _num(d["t"]), label=_label(d.get("name", "")),
+                hands=tuple(_int(i) for i in _list(d.get("hands", []), 2)))
     return GestureMsg(h, _int(d["frame"]), g)
+
+
+def _label(v: object) -> str:
+    """A learned gesture's name (the key is absent for the built-in dictionary)."""
+    if not isinstance(v, str) or len(v) > 64:
+        raise ValueError("a gesture name must be a string of at most 64 characters")
+    return v
+
+
+def _list(v: object, longest: int) -> list:
+    if not isinstance(v, list) or len(v) > longest:
+        raise ValueError(f"expected a list of at most {longest} items")
+    return v
 
 
 def _status(h: Header, d: dict) -> StatusMsg:

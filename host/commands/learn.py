@@ -46,8 +46,8 @@ def describe(g: LearnedGesture) -> str:
              f"  threshold {g.threshold:.3f} (a performance must come this close; override per gesture in a "
              f"profile), completes {g.fires_at:.0%} of the way through"]
     if scores:
-        lines.append(f"  consistency: each repetition's distance to the others, median {np.median(scores):.3f}, "
-                     f"worst {max(scores):.3f} (body units)")
+        lines.append(f"  consistency: each repetition's distance to the others of its example, "
+                     f"median {np.median(scores):.3f}, worst {max(scores):.3f} (body units)")
     for r in g.repetitions:
         score = f"  {r.score:.3f}" if r.score is not None else ""
         lines.append(f"    {r.source} {r.start:.2f}-{r.end:.2f} s{score}")

@@ -10,6 +10,10 @@ best template has been matched up to its `fires_at` point with a score below the
 threshold, at the instant that score is lowest (one posture later). All templates of all
 gestures sit in one array, so a frame costs a handful of numpy operations whatever their number.
 
+A gesture is IN_PROGRESS (said once per attempt) when a path has come UNDER_WAY of the way to its
+`fires_at` point with a score below the threshold; the attempt is over when it completes or when
+no path past that point is below the threshold any more.
+
 Gestures are matched independently: when one completes, its own paths are dropped and it rests
 for most of its remaining length (the rest of the motion cannot fire it again); the others go on
 (dropping every gesture's paths let a gesture that completes early in a motion hide the right
@@ -28,6 +32,7 @@ MOTION_WEIGHT = 0.5  # how much the direction of motion counts next to where the
 MOTION_SOFT = 1.0  # body units/s: motion slower than this counts less (direction of a still hand is noise)
 SKIP_WEIGHT = 2.0  # a skip covers two template postures: it counts twice
 REST_SHARE = 0.8  # after completing, a gesture rests for this share of its typical length
+UNDER_WAY = 0.5  # share of the way to `fires_at` a path must have come, below threshold, to be IN_PROGRESS
 
 
 @dataclass(frozen=True)
@@ -78,8 +83,10 @@ class Matcher:
         self.owner = np.array(owner, int)
         m, k = len(prefixes), max((len(p) for p in prefixes), default=2)
         self.templates = np.zeros((m, k, 12), np.float32)
-        self.valid = np.zeros((m, k), bool)
+        self.valid = np.zeros((m, k), bool)  # (m, k): template m has a posture k
         self.end = np.array([len(p) - 1 for p in prefixes], int)
+        under_way = np.maximum(1, np.round(UNDER_WAY * self.end)).astype(int)
+        self.late = np.arange(k) >= under_way[:, None]  # past the point an attempt counts as under way
         for i, p in enumerate(prefixes):
             self.templates[i, :len(p)] = p
             self.valid[i, :len(p)] = True
@@ -90,6 +97,7 @@ class Matcher:
         self.cost = np.full((m, k), np.inf, np.float32)  # accumulated distance of the best path ending here
         self.steps = np.ones((m, k), np.float32)  # its weight (template postures covered, stays included)
         self.resting = np.zeros(len(gestures))  # ticks each gesture still rests
+        self.announced = np.zeros(len(gestures), bool)  # IN_PROGRESS said for the current attempt
         self._last = np.full(len(gestures), np.inf)  # last tick's score ratio
         self._rows = np.arange(m)
 
@@ -97,13 +105,15 @@ class Matcher:
         """The stream broke (a hand gone): no path continues across the gap."""
         self.cost[:] = np.inf
         self._last[:] = np.inf
+        self.announced[:] = False
         self._recent = []
 
     def update(self, posture: np.ndarray) -> list[Match]:
-        """One posture (6,) in; the gesture completed by it, if any."""
+        """One posture (6,) in; the gestures it puts under way (IN_PROGRESS) and the one it completes."""
         if not len(self.gestures):
             return []
-        return self._decide(self.step(posture))
+        per = self.step(posture)
+        return self._announce() + self._decide(per)
 
     def step(self, posture: np.ndarray) -> np.ndarray:
         """Advance every path by one posture; each gesture's best score at its `fires_at` point."""
@@ -136,6 +146,17 @@ class Matcher:
         np.minimum.at(per, self.owner, score)
         return per
 
+    def _announce(self) -> list[Match]:
+        """IN_PROGRESS for each gesture with a path under way below its threshold, once per attempt."""
+        score = np.where(self.late & self.valid, self.cost / self.steps, np.inf).min(axis=1)
+        best = np.full(len(self.gestures), np.inf)
+        np.minimum.at(best, self.owner, score)
+        ratio = best / self.thresholds
+        self.announced &= ratio < 1.0  # no path below threshold any more: that attempt is over
+        new = np.flatnonzero((ratio < 1.0) & ~self.announced & (self.resting <= 0))
+        self.announced[new] = True
+        return [Match(int(gi), float(ratio[gi]), False) for gi in new]
+
     def _decide(self, per: np.ndarray) -> list[Match]:
         ratio = per / self.thresholds
         ratio[self.resting > 0] = np.inf
@@ -149,4 +170,5 @@ class Matcher:
         self.cost[self.owner == gi] = np.inf  # only this gesture starts again: another may still complete
         self._last[gi] = np.inf
         self.resting[gi] = self.rest_ticks[gi]
+        self.announced[gi] = False
         return [Match(gi, float(last[gi]), True)]

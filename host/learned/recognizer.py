@@ -45,17 +45,19 @@ class LearnedRecognizer:
         events = []
         for posture in postures:
             for match in self.matcher.update(posture.vector):
-                events.append(self._event(self.gestures[match.index], match.ratio, t))
+                events.append(self._event(self.gestures[match.index], match.ratio, t, match.complete))
         return events
 
-    def _event(self, gesture: LearnedGesture, ratio: float, t: float) -> Gesture:
-        """COMPLETE at the hand(s) that made it; confidence 0.5 at the threshold, 1 at a perfect match."""
+    def _event(self, gesture: LearnedGesture, ratio: float, t: float, complete: bool) -> Gesture:
+        """IN_PROGRESS or COMPLETE at the hand(s) making it; confidence 0.5 at the threshold, 1 at a
+        perfect match."""
         used = [h for h in self._hands if gesture.hands == "both" or h.side.value == gesture.hands] or list(
             self._hands)
         position = tuple(np.mean([h.position for h in used], axis=0)) if used else (0.0, 0.0, 0.0)
         both = gesture.hands == "both" and len(used) > 1
         hand = used[0] if used and not both else None
-        return Gesture(GestureType.LEARNED, GestureState.COMPLETE, position,
+        state = GestureState.COMPLETE if complete else GestureState.IN_PROGRESS
+        return Gesture(GestureType.LEARNED, state, position,
                        hand.id if hand else 0, hand.side if hand else Side.UNKNOWN,
                        0.5 + 0.5 * float(np.clip(1.0 - ratio, 0.0, 1.0)), t, label=gesture.name,
                        hands=tuple(h.id for h in used) if both else ())

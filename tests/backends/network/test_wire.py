@@ -61,6 +61,13 @@ def test_hands_and_gestures_round_trip():
     assert isinstance(back, wire.GestureMsg) and back.gesture == g and back.header.seq == 9
 
 
+def test_learned_gestures_keep_their_name_and_hands_on_the_wire():
+    g = Gesture(GestureType.LEARNED, GestureState.IN_PROGRESS, (1.0, 2.0, 3.0), 0, Side.UNKNOWN, 0.8, 3.5,
+                label="wind_it_up", hands=(1, 2))
+    back = wire.decode(wire.encode_gesture(5, 9, 10.0, 42, g)).gesture
+    assert back == g and back.name == "wind_it_up"
+
+
 @pytest.mark.parametrize("bad, kind", [
     (b"", "truncated"),
     (b"XXXX" + bytes(40), "bad-magic"),
@@ -69,6 +76,8 @@ def test_hands_and_gestures_round_trip():
     (wire.header(wire.HANDS, 1, 1, 0.0) + b'{"frame": 1}', "bad-field"),
     (wire.header(wire.GESTURE, 1, 1, 0.0) + b'{"frame":1,"type":"DANCE","state":"complete","position":[0,0,0],'
                                              b'"hand":1,"side":"left","confidence":1,"t":0}', "bad-field"),
+    (wire.header(wire.GESTURE, 1, 1, 0.0) + b'{"frame":1,"type":"learned","state":"complete","position":[0,0,0],'
+                                             b'"hand":1,"side":"left","confidence":1,"t":0,"name":7}', "bad-field"),
     (wire.header(wire.DEPTH, 1, 1, 0.0) + wire.DEPTH_BODY.pack(1, 1, 0.0, 60000, 60000, 1, 0, 1, 1, 1, 1), "bad-depth"),
 ])
 def test_malformed_messages_name_what_is_wrong(bad, kind):

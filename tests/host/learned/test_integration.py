@@ -80,7 +80,8 @@ def test_the_host_adds_learned_gestures_to_any_backends_frames(tmp_path):
     seen = []
     while (frame := backend.update()) is not None:
         seen += [g for g in frame.gestures]
-    assert [(g.name, g.type, g.state) for g in seen] == [("roll", GestureType.LEARNED, GestureState.COMPLETE)] * 2
+    assert [(g.name, g.type, g.state) for g in seen] == [
+        ("roll", GestureType.LEARNED, GestureState.IN_PROGRESS), ("roll", GestureType.LEARNED, GestureState.COMPLETE)] * 2
     assert backend.name == "replay-frames"  # everything else is the backend's own
 
 

@@ -34,12 +34,17 @@ def taught(tmp_path_factory) -> tuple[Path, Path]:
     return out[0], out[1]
 
 
-def completes(files, csv: Path) -> list[tuple[float, str]]:
+def recognised(files, csv: Path) -> list[tuple[float, str, str]]:
+    """Every learned-gesture event: (time, name, state)."""
     recognizer = LearnedRecognizer.from_files(files, mirrored=True)
     events = []
     for frame in read_trajectories(csv):
-        events += [(e.timestamp, e.name) for e in recognizer.update(frame.t, frame.hands, frame.body)]
+        events += [(e.timestamp, e.name, e.state.value) for e in recognizer.update(frame.t, frame.hands, frame.body)]
     return events
+
+
+def completes(files, csv: Path) -> list[tuple[float, str]]:
+    return [(t, name) for t, name, state in recognised(files, csv) if state == "complete"]
 
 
 def test_the_learner_finds_each_repetition(tmp_path):
@@ -60,16 +65,20 @@ def test_another_performer_is_recognised_and_only_as_the_right_gesture(taught, t
     for name, motion in (("circle", circle), ("punch", punch)):
         csv = tmp_path / f"{name}.csv"
         middles = performer.write(csv, motion, 3)
-        events = completes(taught, csv)
-        assert [n for _, n in events] == [name] * 3, events
-        for (t, _), middle in zip(events, middles):  # completes around half way, within the motion
+        every = recognised(taught, csv)
+        assert [(n, s) for _, n, s in every] == [(name, "in_progress"), (name, "complete")] * 3, every
+        events = [(t, n) for t, n, s in every if s == "complete"]
+        for (t, _), middle in zip(events, middles):  # completes three quarters through, within the motion
             assert middle - 0.6 < t < middle + 0.8
+        starts = [t for t, _, s in every if s == "in_progress"]
+        length = 1.6 / performer.speed  # the performer's motion (performer.py)
+        assert all(0.1 < done - start < length for start, (done, _) in zip(starts, events))  # under way first
 
 
 def test_walking_or_standing_triggers_nothing(taught, tmp_path):
     csv = tmp_path / "walk.csv"
     Performer(walk_mm_s=600.0, seed=3).write(csv, still, 3)
-    assert completes(taught, csv) == []
+    assert recognised(taught, csv) == []  # not even under way
 
 
 def test_a_gesture_file_round_trips_and_a_profile_may_override_its_threshold(taught):
@@ -115,8 +124,8 @@ def test_the_commands_learn_show_and_recognise(tmp_path, capsys):
     assert issv(["gestures", str(probe), "--mirrored", "--learned", str(out)]) == 0
     lines = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
     learned = [e for e in lines if e.get("native") == "learned"]
-    assert [(e["name"], e["state"]) for e in learned] == [("roll", "complete")] * 2
-    assert learned[0]["hands"] == [1, 2] and 0.5 <= learned[0]["confidence"] <= 1.0
+    assert [(e["name"], e["state"]) for e in learned] == [("roll", "in_progress"), ("roll", "complete")] * 2
+    assert all(e["hands"] == [1, 2] and 0.5 <= e["confidence"] <= 1.0 for e in learned)
 
 
 def test_one_repetition_is_not_enough(tmp_path, capsys):
