@@ -37,12 +37,12 @@ VERTEX_ONLY = [(re.compile(r"\bvarying\b"), "out"), (re.compile(r"\battribute\b"
 GIVEN = {"RENDERSIZE", "TIME", "TIMEDELTA", "FRAMEINDEX", "PASSINDEX", "DATE", "isf_FragNormCoord", "vv_FragNormCoord"}
 TEXTURE_VARIABLE = re.compile(r"\btexture\b(?!\s*\()")
 
+PASSINDEX_UNIFORM = "uniform int PASSINDEX;\n"  # a constant in a program made for one pass
 BUILTINS = """uniform vec2 RENDERSIZE;
 uniform float TIME;
 uniform float TIMEDELTA;
 uniform int FRAMEINDEX;
-uniform int PASSINDEX;
-uniform vec4 DATE;
+""" + PASSINDEX_UNIFORM + """uniform vec4 DATE;
 #define IMG_NORM_PIXEL(img, coord) texture(img, coord)
 #define IMG_PIXEL(img, coord) texture(img, (coord) / vec2(textureSize(img, 0)))
 #define IMG_THIS_NORM_PIXEL(img) texture(img, isf_FragNormCoord)

@@ -71,6 +71,25 @@ def test_a_persistent_buffer_keeps_its_pixels_across_frames_and_float_keeps_valu
     assert image[..., 0].mean() == pytest.approx(expected, abs=0.01)  # 8-bit buffers stop at 1.0
 
 
+def test_each_pass_that_branches_on_passindex_is_a_program_of_its_own_with_passindex_constant(ctx, tmp_path):
+    path = write(tmp_path, "three.fs", """/*{"PASSES": [{"TARGET": "a"}, {"TARGET": "b"}, {}]}*/
+void main() {
+    if (PASSINDEX == 0) gl_FragColor = vec4(0.25, 0.0, 0.0, 1.0);
+    else if (PASSINDEX == 1) gl_FragColor = IMG_THIS_PIXEL(a) + vec4(0.0, 0.5, 0.0, 0.0);
+    else gl_FragColor = IMG_THIS_PIXEL(b) + vec4(0.0, 0.0, float(PASSINDEX) / 4.0, 0.0);
+}
+""")
+    shader = IsfShader(path)
+    assert shader.branches_on_pass
+    program = shader.program(ctx, 2)
+    try:
+        assert program.get("PASSINDEX", None) is None  # a constant: the other passes' code is gone
+    finally:
+        program.release()
+    r, g, b, _ = render(ctx, path)[60, 80]
+    assert (r, g, b) == pytest.approx((0.25, 0.5, 0.5), abs=0.01)
+
+
 def test_a_pass_size_expression_sizes_its_buffer(ctx, tmp_path):
     path = write(tmp_path, "size.fs", """/*{
     "INPUTS": [{"NAME": "quality", "TYPE": "float", "DEFAULT": 0.5}],
