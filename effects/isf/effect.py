@@ -85,13 +85,14 @@ class Isf(Effect):
         check_bindings(self.shader, self.options.bind, self.options.values)
         self.sources = image_sources(self.shader, self.options.bind)
         # The show below and layer groups are read as drawn: the keystone is then one warp pass.
-        self.keystone_aware = not any(s == "below" or LAYERS.match(s) for s in self.sources.values())
+        self.keystone_aware = not any(stage_sized(s) for s in self.sources.values())
         ctx = stage.ctx
         self.runner = IsfRenderer(ctx, self.shader)
         # Only a shader that compiled hides the layers it reads from the stage.
         self.captures = tuple(layer_range(s) for s in self.sources.values() if LAYERS.match(s))
         self.sound = SoundTextures(ctx, lambda: stage.extra.get("audio"))
         self.offscreen = None
+        self.shrunk: dict[str, Buffer] = {}  # stage-sized images at `scale`
         if self.options.scale < 1:
             w, h = stage.size
             scale = self.options.scale
@@ -183,12 +184,27 @@ class Isf(Effect):
             self.runner.draw(self.values, images, output, now, target.dt)
             return
         small = self.offscreen  # a heavy shader at `scale`, then stretched onto the stage
+        images = {name: self._shrunk(name, texture) if stage_sized(self.sources[name]) else texture
+                  for name, texture in images.items()}
         small.draw_into().clear(0.0, 0.0, 0.0, 0.0)
         self.runner.draw(self.values, images, Output(small.bind, small.size), now, target.dt)
         small.swap()
         target.use()
         self.runner.show(small.current, Output(target.use, target.size, clip_on(target.to_clip, target.size)),
                          premultiplied=True)
+
+    def _shrunk(self, name: str, texture):
+        """A stage-sized image at the shader's size: IMG_PIXEL(inputImage, gl_FragCoord.xy) then
+        reads the whole show, as at scale 1, and the passes read a quarter of the pixels."""
+        if texture is None:
+            return None
+        if name not in self.shrunk:
+            self.shrunk[name] = Buffer(self.stage.ctx, self.offscreen.size, False)
+        buffer = self.shrunk[name]
+        buffer.bind()
+        self.runner.show(texture, Output(buffer.bind, buffer.size), premultiplied=True)  # a plain copy
+        buffer.swap()
+        return buffer.current
 
     def _image(self, target, name: str, source: str):
         kind = self.shader.inputs[name]
@@ -207,6 +223,13 @@ class Isf(Effect):
         for name in ("runner", "sound", "offscreen"):
             if getattr(self, name, None) is not None:
                 getattr(self, name).release()
+        for buffer in getattr(self, "shrunk", {}).values():
+            buffer.release()
+
+
+def stage_sized(source: str) -> bool:
+    """The show below or a layer group: an image the size of the stage."""
+    return source == "below" or bool(LAYERS.match(source))
 
 
 def layer_range(source: str) -> tuple[int, int]:
