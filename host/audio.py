@@ -6,6 +6,7 @@ effects read it in `render`/`on_frame`: `sound.level()` (RMS, 0..1), `sound.spec
 
 - `FileSound`: a WAV/FLAC file (`soundfile`, the `issv[audio]` extra), its position set from the
   source's timestamps so that the picture and the sound stay in sync (seek, not a clock).
+  `Playback` plays it aloud on an output device (`sounddevice`), following that position.
 - `CaptureSound`: the default capture device through PortAudio (`sounddevice`, same extra). The
   device callback only overwrites a ring buffer (no queue, never blocking the audio thread).
 - `ToneSound`: a test tone (`issv isf` feeds it to audio inputs).
@@ -91,6 +92,47 @@ class FileSound(Sound):
         if len(part):
             out[n - len(part):] = part
         return out
+
+
+class Playback:
+    """A FileSound played aloud on the default (or a named) output device, in step with its position.
+
+    The device pulls audio at its own pace; the file's position moves with the source's frames.
+    The play head runs on by itself and jumps to the position when the two are more than
+    `RESYNC_S` apart (the source looped, skipped or stalled), so the sound follows the picture
+    without a click on every frame. Needs a sound card: not tested here (no device in CI).
+    """
+
+    RESYNC_S = 0.15
+
+    def __init__(self, sound: FileSound, device: str | int | None = None) -> None:
+        try:
+            import sounddevice
+        except (ImportError, OSError) as error:
+            raise UserError(f"audio: playing needs sounddevice and PortAudio ({error}): {AUDIO_EXTRA}, "
+                            "apt-get install libportaudio2") from None
+        self.sound, self.head = sound, sound.position
+        try:
+            sounddevice.query_devices(device, "output")
+            self.stream = sounddevice.OutputStream(device=device, channels=sound.channels, samplerate=sound.rate,
+                                                   dtype="float32", callback=self._callback)
+            self.stream.start()
+        except Exception as error:  # PortAudioError, ValueError: no such device
+            raise UserError(f"audio: no playback device {device if device is not None else '(default)'} "
+                            f"({error})") from None
+
+    def _callback(self, outdata, frames, time_info, status) -> None:
+        target = self.sound.position
+        if abs(self.head - target) > self.RESYNC_S * self.sound.rate:
+            self.head = target
+        chunk = self.sound.data[self.head:self.head + frames]
+        outdata[:len(chunk)] = chunk
+        outdata[len(chunk):] = 0.0
+        self.head += frames
+
+    def close(self) -> None:
+        self.stream.stop()
+        self.stream.close()
 
 
 class CaptureSound(Sound):

@@ -98,3 +98,16 @@ def test_the_vidvox_collection_plays(tmp_path):
     assert len(failed) <= 1, failed
     flat = [r["file"] for r in results if r["std"] <= 0.002]
     assert len(flat) <= 4, flat
+
+
+def test_std_is_zero_for_a_frame_of_one_colour_however_saturated():
+    import numpy as np
+
+    from effects.isf.trial import colour_spread
+
+    red = np.zeros((4, 6, 3), np.uint8)
+    red[..., 0] = 255
+    assert colour_spread(red) == 0.0  # np.std over all values would say 0.47
+    half = red.copy()
+    half[:2] = 0
+    assert colour_spread(half) == pytest.approx(0.5 / np.sqrt(3), abs=1e-6)
