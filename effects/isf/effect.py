@@ -92,7 +92,6 @@ class Isf(Effect):
         self.captures = tuple(layer_range(s) for s in self.sources.values() if LAYERS.match(s))
         self.sound = SoundTextures(ctx, lambda: stage.extra.get("audio"))
         self.offscreen = None
-        self.shrunk: dict[str, Buffer] = {}  # stage-sized images at `scale`
         if self.options.scale < 1:
             w, h = stage.size
             scale = self.options.scale
@@ -184,27 +183,15 @@ class Isf(Effect):
             self.runner.draw(self.values, images, output, now, target.dt)
             return
         small = self.offscreen  # a heavy shader at `scale`, then stretched onto the stage
-        images = {name: self._shrunk(name, texture) if stage_sized(self.sources[name]) else texture
-                  for name, texture in images.items()}
+        # The show below is seen at the shader's size: IMG_PIXEL(inputImage, gl_FragCoord.xy) reads
+        # the whole stage, not its lower-left corner (linear sampling does the shrinking).
+        sizes = {name: small.size for name in images if stage_sized(self.sources[name])}
         small.draw_into().clear(0.0, 0.0, 0.0, 0.0)
-        self.runner.draw(self.values, images, Output(small.bind, small.size), now, target.dt)
+        self.runner.draw(self.values, images, Output(small.bind, small.size), now, target.dt, sizes)
         small.swap()
         target.use()
         self.runner.show(small.current, Output(target.use, target.size, clip_on(target.to_clip, target.size)),
                          premultiplied=True)
-
-    def _shrunk(self, name: str, texture):
-        """A stage-sized image at the shader's size: IMG_PIXEL(inputImage, gl_FragCoord.xy) then
-        reads the whole show, as at scale 1, and the passes read a quarter of the pixels."""
-        if texture is None:
-            return None
-        if name not in self.shrunk:
-            self.shrunk[name] = Buffer(self.stage.ctx, self.offscreen.size, False)
-        buffer = self.shrunk[name]
-        buffer.bind()
-        self.runner.show(texture, Output(buffer.bind, buffer.size), premultiplied=True)  # a plain copy
-        buffer.swap()
-        return buffer.current
 
     def _image(self, target, name: str, source: str):
         kind = self.shader.inputs[name]
@@ -223,8 +210,6 @@ class Isf(Effect):
         for name in ("runner", "sound", "offscreen"):
             if getattr(self, name, None) is not None:
                 getattr(self, name).release()
-        for buffer in getattr(self, "shrunk", {}).values():
-            buffer.release()
 
 
 def stage_sized(source: str) -> bool:

@@ -126,8 +126,9 @@ class IsfRenderer:
             uniform.value = value
 
     def draw(self, values: dict[str, Any], images: dict[str, moderngl.Texture], output: Output,
-             time: float, delta: float) -> None:
-        """All passes, then the output; `values` are the inputs' current values (sizes read them)."""
+             time: float, delta: float, sizes: dict[str, tuple[int, int]] | None = None) -> None:
+        """All passes, then the output; `values` are the inputs' current values (sizes read them).
+        `sizes`: images the shader sees at another size than their texture's (IMG_PIXEL, IMG_SIZE)."""
         numeric = {k: v for k, v in values.items() if isinstance(v, (int, float))}
         now = dt.datetime.now()
         midnight = now.hour * 3600 + now.minute * 60 + now.second + now.microsecond / 1e6
@@ -154,7 +155,7 @@ class IsfRenderer:
             set_uniform(prog, "RENDERSIZE", (float(size[0]), float(size[1])))
             set_uniform(prog, "issv_premultiply", premultiply)
             prog["issv_clip"].write(mat3_bytes(clip))
-            self._bind_images(prog, images)
+            self._bind_images(prog, images, sizes or {})
             vao.render(moderngl.TRIANGLE_STRIP)
             if buffer is not None:
                 buffer.swap()
@@ -182,13 +183,14 @@ class IsfRenderer:
         self.buffers[spec.target] = Buffer(self.ctx, size, spec.float)
         return self.buffers[spec.target]
 
-    def _bind_images(self, prog: moderngl.Program, images: dict[str, moderngl.Texture]) -> None:
+    def _bind_images(self, prog: moderngl.Program, images: dict[str, moderngl.Texture],
+                     sizes: dict[str, tuple[int, int]]) -> None:
         for unit, name in enumerate(self.image_names):
             texture = images.get(name) or (self.buffers[name].current if name in self.buffers else None) \
                 or self.imported.get(name) or self.blank
             texture.use(unit)
             set_uniform(prog, glsl_name(name), unit)
-            w, h = texture.size
+            w, h = sizes.get(name) or texture.size
             set_uniform(prog, f"_{name}_imgSize", (float(w), float(h)))
             set_uniform(prog, f"_{name}_imgRect", (0.0, 0.0, float(w), float(h)))
 

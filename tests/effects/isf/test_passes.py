@@ -22,7 +22,7 @@ def ctx():
     context.release()
 
 
-def render(ctx, path, frames=1, values=None, images=None):
+def render(ctx, path, frames=1, values=None, images=None, sizes=None):
     """The last of `frames` frames as RGBA floats 0..1, row 0 at the top."""
     shader = IsfShader(path)
     runner = IsfRenderer(ctx, shader)
@@ -36,7 +36,7 @@ def render(ctx, path, frames=1, values=None, images=None):
     try:
         for i in range(frames):
             fbo.clear(0.0, 0.0, 0.0, 0.0)
-            runner.draw({**shader.defaults, **(values or {})}, images or {}, Output(bind, SIZE), i / 30, 1 / 30)
+            runner.draw({**shader.defaults, **(values or {})}, images or {}, Output(bind, SIZE), i / 30, 1 / 30, sizes)
         pixels = np.frombuffer(fbo.read(components=4), np.uint8).reshape(SIZE[1], SIZE[0], 4)
         return pixels[::-1] / 255.0
     finally:
@@ -147,6 +147,20 @@ def test_an_image_input_is_sampled_with_img_pixel_in_pixels(ctx, tmp_path):
     path = write(tmp_path, "px.fs", '/*{"INPUTS": [{"NAME": "inputImage", "TYPE": "image"}]}*/\n'
                                     "void main() { gl_FragColor = IMG_PIXEL(inputImage, vec2(2.5, 0.5)); }\n")
     assert render(ctx, path, images={"inputImage": texture})[5, 5, 0] == pytest.approx(120 / 255, abs=0.01)
+    texture.release()
+
+
+def test_an_image_seen_at_another_size_is_read_in_that_size_pixels(ctx, tmp_path):
+    """At `scale` the host gives the full-size show and the size the shader sees it at."""
+    row = np.zeros((8, 4), np.uint8)
+    row[:, 0], row[:, 3] = np.arange(8) * 30, 255
+    texture = ctx.texture((8, 2), 4, np.stack([row, row]).tobytes())
+    texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
+    path = write(tmp_path, "px.fs", '/*{"INPUTS": [{"NAME": "inputImage", "TYPE": "image"}]}*/\n'
+                                    "void main() { gl_FragColor = vec4(IMG_PIXEL(inputImage, vec2(2.9, 0.5)).r,"
+                                    " IMG_SIZE(inputImage) / 255.0, 1.0); }\n")
+    r, g, b, _ = render(ctx, path, images={"inputImage": texture}, sizes={"inputImage": (4, 1)})[5, 5] * 255
+    assert round(r) == 150 and (round(g), round(b)) == (4, 1)  # x 2.9 of 4 is texel 5 of 8
     texture.release()
 
 
