@@ -19,7 +19,12 @@ RESERVED = ("input", "output", "smooth", "flat", "noperspective", "filter", "com
             "union", "enum", "typedef", "template", "this", "packed", "goto", "inline", "noinline",
             "volatile", "public", "static", "extern", "external", "interface", "namespace", "using",
             "sizeof", "cast", "row_major", "asm", "class", "layout", "centroid", "invariant")
-_RESERVED = re.compile(r"\b(" + "|".join(RESERVED) + r")\b")
+# ... but not where they are what GLSL 1.30+ means by them: a qualifier before a declaration
+# (`flat out float x;`, `smooth in`, `invariant gl_Position`) or `layout(...)`.
+QUALIFIED = (r"(?:in|out|inout|varying|uniform|centroid|flat|smooth|noperspective|invariant|const|highp|mediump|"
+             r"lowp|float|int|uint|bool|vec[234]|ivec[234]|uvec[234]|bvec[234]|mat[234](?:x[234])?|gl_\w+)")
+_RESERVED = re.compile(r"\b(" + "|".join(RESERVED) + r")\b(?!\s+" + QUALIFIED + r"\b)"
+                       r"|\b(layout)\b(?!\s*\()")
 COMMON = [(re.compile(r"\btexture2DRect\b"), "texture"), (re.compile(r"\btexture2DProj\b"), "textureProj"),
           (re.compile(r"\btexture2DLod\b"), "textureLod"), (re.compile(r"\btexture2DGrad\b"), "textureGrad"),
           (re.compile(r"\btextureCube\b"), "texture"), (re.compile(r"\btexture2D\b"), "texture"),
@@ -100,7 +105,7 @@ def translate(body: str, stage: str, declared: set[str]) -> str:
     for pattern, repl in COMMON + (FRAGMENT_ONLY if stage == "fragment" else VERTEX_ONLY):
         body = pattern.sub(repl, body)
     body = in_image_pixels(body, declared)
-    body = _RESERVED.sub(r"isf_\1", body)
+    body = _RESERVED.sub(lambda m: f"isf_{m.group(1) or m.group(2)}", body)
     # A shader that declares what ISF already gives (its inputImage, TIME, isf_FragNormCoord) keeps one.
     redeclared = re.compile(r"^[ \t]*(?:uniform|in|out)\s+(?:(?:high|medium|low)p\s+)?\w+\s+(\w+)\s*;", re.M)
     return redeclared.sub(lambda m: "" if m.group(1) in declared | GIVEN else m.group(0), body)

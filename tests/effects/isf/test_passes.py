@@ -116,6 +116,14 @@ def test_a_companion_vertex_shader_and_old_glsl_run(ctx, tmp_path):
     assert image[0, 80, 0] < 0.02 and image[-1, 80, 0] > 0.98  # flipped: 0 at the top, 1 at the bottom
 
 
+def test_glsl_130_qualifiers_stay_qualifiers_while_old_names_that_are_now_reserved_are_renamed(ctx, tmp_path):
+    write(tmp_path, "q.vs", "flat out float level;\nvoid main() { isf_vertShaderInit(); level = 0.5; }\n")
+    path = write(tmp_path, "q.fs", '/*{"INPUTS": []}*/\nflat in float level;\n'
+                                   "float smooth(float filter) { float flat = filter; return flat; }\n"
+                                   "void main() { gl_FragColor = vec4(smooth(level), 0.0, 0.0, 1.0); }\n")
+    assert render(ctx, path)[60, 80, 0] == pytest.approx(0.5, abs=0.01)
+
+
 def test_an_error_in_the_vertex_shader_names_the_vs_file_and_line(ctx, tmp_path):
     write(tmp_path, "bad.vs", "void main() {\n    isf_vertShaderInit();\n    gl_Position.x += nope;\n}\n")
     path = write(tmp_path, "bad.fs", "/*{}*/\nvoid main() { gl_FragColor = vec4(1.0); }\n")
