@@ -24,6 +24,30 @@ from host.errors import UserError
 AUDIO_EXTRA = "pip install 'issv[audio]'"
 
 
+def portaudio(purpose: str):
+    """The sounddevice module, or one error saying how to get it (it or the PortAudio library)."""
+    try:
+        import sounddevice
+    except (ImportError, OSError) as error:  # OSError: the PortAudio library itself is missing
+        raise UserError(f"audio: {purpose} needs sounddevice and PortAudio ({error}): {AUDIO_EXTRA}, "
+                        "apt-get install libportaudio2") from None
+    return sounddevice
+
+
+def no_device(kind: str, device: str | int | None, error: Exception) -> UserError:
+    return UserError(f"audio: no {kind} device {device if device is not None else '(default)'} ({error})")
+
+
+def start_stream(kind: str, stream_class, device: str | int | None, channels: int, rate: int, callback):
+    """A started PortAudio stream of float32 frames, or one error naming the missing device."""
+    try:
+        stream = stream_class(device=device, channels=channels, samplerate=rate, dtype="float32", callback=callback)
+        stream.start()
+    except Exception as error:  # PortAudioError, ValueError: no such device
+        raise no_device(kind, device, error) from None
+    return stream
+
+
 class Sound:
     """Samples by time; subclasses give `window(n)`, the newest n frames as (n, channels) float32."""
 
@@ -106,20 +130,10 @@ class Playback:
     RESYNC_S = 0.15
 
     def __init__(self, sound: FileSound, device: str | int | None = None) -> None:
-        try:
-            import sounddevice
-        except (ImportError, OSError) as error:
-            raise UserError(f"audio: playing needs sounddevice and PortAudio ({error}): {AUDIO_EXTRA}, "
-                            "apt-get install libportaudio2") from None
+        sounddevice = portaudio("playing")
         self.sound, self.head = sound, sound.position
-        try:
-            sounddevice.query_devices(device, "output")
-            self.stream = sounddevice.OutputStream(device=device, channels=sound.channels, samplerate=sound.rate,
-                                                   dtype="float32", callback=self._callback)
-            self.stream.start()
-        except Exception as error:  # PortAudioError, ValueError: no such device
-            raise UserError(f"audio: no playback device {device if device is not None else '(default)'} "
-                            f"({error})") from None
+        self.stream = start_stream("playback", sounddevice.OutputStream, device, sound.channels, sound.rate,
+                                   self._callback)
 
     def _callback(self, outdata, frames, time_info, status) -> None:
         target = self.sound.position
@@ -140,23 +154,16 @@ class CaptureSound(Sound):
     device in CI); the ring buffer logic is the same as FileSound's window."""
 
     def __init__(self, device: str | int | None = None, seconds: float = 1.0) -> None:
-        try:
-            import sounddevice
-        except (ImportError, OSError) as error:  # OSError: the PortAudio library itself is missing
-            raise UserError(f"audio: capture needs sounddevice and PortAudio ({error}): {AUDIO_EXTRA}, "
-                            "apt-get install libportaudio2") from None
+        sounddevice = portaudio("capture")
         try:
             info = sounddevice.query_devices(device, "input")
-            self.rate, self.channels = int(info["default_samplerate"]), max(1, min(2, int(info["max_input_channels"])))
-            self.ring = np.zeros((int(self.rate * seconds), self.channels), np.float32)
-            self.written = 0
-            self.lock = threading.Lock()
-            self.stream = sounddevice.InputStream(device=device, channels=self.channels, samplerate=self.rate,
-                                                  dtype="float32", callback=self._callback)
-            self.stream.start()
         except Exception as error:  # PortAudioError, ValueError: no such device
-            raise UserError(f"audio: no capture device {device if device is not None else '(default)'} "
-                            f"({error})") from None
+            raise no_device("capture", device, error) from None
+        self.rate, self.channels = int(info["default_samplerate"]), max(1, min(2, int(info["max_input_channels"])))
+        self.ring = np.zeros((int(self.rate * seconds), self.channels), np.float32)
+        self.written = 0
+        self.lock = threading.Lock()
+        self.stream = start_stream("capture", sounddevice.InputStream, device, self.channels, self.rate, self._callback)
 
     def _callback(self, indata, frames, time_info, status) -> None:
         data = indata[-len(self.ring):]
