@@ -1,9 +1,11 @@
 """`audio`: the show's sound, for the effects after it: a sound file (WAV/FLAC) followed in step
-with the source's timestamps, or a capture device (PortAudio). It draws nothing; it puts the
-sound on `stage.extra["audio"]` (see host/audio.py), where `isf` feeds audio/audioFFT inputs and
-`audio.level` bindings and Python effects read `level()` and `spectrum()`.
+with the source's timestamps and played aloud (`play`, on the default output device), or a capture
+device (PortAudio). It draws nothing; it puts the sound on `stage.extra["audio"]` (see
+host/audio.py), where `isf` feeds audio/audioFFT inputs and `audio.level` bindings and Python
+effects read `level()` and `spectrum()`.
 
-Without the extra, the file or a device, one message says why and the show goes on silent.
+Without the extra, the file or a device, one message says why and the show goes on silent. A file
+with no output device to play it on still drives the effects; one message says it is not heard.
 """
 from __future__ import annotations
 
@@ -12,7 +14,7 @@ import sys
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from host import Effect, Frame, Stage
-from host.audio import AUDIO_EXTRA, CaptureSound, FileSound
+from host.audio import AUDIO_EXTRA, CaptureSound, FileSound, Playback
 from host.errors import UserError
 from host.options import ProfilePath
 
@@ -22,6 +24,8 @@ class AudioOptions(BaseModel):
     file: ProfilePath | None = Field(None, description="a WAV/FLAC file, in step with the source's time")
     device: str | int | None = Field(None, description="a capture device name or index (default: the "
                                      "system's default input), when there is no `file`")
+    play: bool = Field(True, description="play the `file` aloud on the default output device, in step "
+                       "with the source (false: only the effects hear it)")
 
     @model_validator(mode="after")
     def _one(self) -> "AudioOptions":
@@ -43,7 +47,7 @@ class Audio(Effect):
 
     def setup(self, stage: Stage) -> None:
         super().setup(stage)
-        self.sound = None
+        self.sound = self.playback = None
         self.start: float | None = None
         try:
             self.sound = FileSound(self.options.file) if self.options.file else CaptureSound(self.options.device)
@@ -51,6 +55,11 @@ class Audio(Effect):
             sys.stderr.write(f"issv: {error}; the show goes on silent\n")
             return
         stage.extra["audio"] = self.sound
+        if self.options.file and self.options.play:
+            try:
+                self.playback = Playback(self.sound)
+            except UserError as error:
+                sys.stderr.write(f"issv: {error}; {self.options.file} drives the effects but is not heard\n")
 
     def on_frame(self, frame: Frame) -> None:
         if isinstance(self.sound, FileSound) and frame.depth is not None:
@@ -59,6 +68,8 @@ class Audio(Effect):
             self.sound.seek(frame.timestamp - self.start)
 
     def close(self) -> None:
+        if self.playback is not None:
+            self.playback.close()
         if self.sound is not None:
             self.sound.close()
             self.stage.extra.pop("audio", None)

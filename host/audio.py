@@ -6,6 +6,7 @@ effects read it in `render`/`on_frame`: `sound.level()` (RMS, 0..1), `sound.spec
 
 - `FileSound`: a WAV/FLAC file (`soundfile`, the `issv[audio]` extra), its position set from the
   source's timestamps so that the picture and the sound stay in sync (seek, not a clock).
+  `Playback` plays it aloud on an output device (`sounddevice`), following that position.
 - `CaptureSound`: the default capture device through PortAudio (`sounddevice`, same extra). The
   device callback only overwrites a ring buffer (no queue, never blocking the audio thread).
 - `ToneSound`: a test tone (`issv isf` feeds it to audio inputs).
@@ -21,6 +22,30 @@ import numpy as np
 from host.errors import UserError
 
 AUDIO_EXTRA = "pip install 'issv[audio]'"
+
+
+def portaudio(purpose: str):
+    """The sounddevice module, or one error saying how to get it (it or the PortAudio library)."""
+    try:
+        import sounddevice
+    except (ImportError, OSError) as error:  # OSError: the PortAudio library itself is missing
+        raise UserError(f"audio: {purpose} needs sounddevice and PortAudio ({error}): {AUDIO_EXTRA}, "
+                        "apt-get install libportaudio2") from None
+    return sounddevice
+
+
+def no_device(kind: str, device: str | int | None, error: Exception) -> UserError:
+    return UserError(f"audio: no {kind} device {device if device is not None else '(default)'} ({error})")
+
+
+def start_stream(kind: str, stream_class, device: str | int | None, channels: int, rate: int, callback):
+    """A started PortAudio stream of float32 frames, or one error naming the missing device."""
+    try:
+        stream = stream_class(device=device, channels=channels, samplerate=rate, dtype="float32", callback=callback)
+        stream.start()
+    except Exception as error:  # PortAudioError, ValueError: no such device
+        raise no_device(kind, device, error) from None
+    return stream
 
 
 class Sound:
@@ -93,28 +118,52 @@ class FileSound(Sound):
         return out
 
 
+class Playback:
+    """A FileSound played aloud on the default (or a named) output device, in step with its position.
+
+    The device pulls audio at its own pace; the file's position moves with the source's frames.
+    The play head runs on by itself and jumps to the position when the two are more than
+    `RESYNC_S` apart (the source looped, skipped or stalled), so the sound follows the picture
+    without a click on every frame. Needs a sound card: not tested here (no device in CI).
+    """
+
+    RESYNC_S = 0.15
+
+    def __init__(self, sound: FileSound, device: str | int | None = None) -> None:
+        sounddevice = portaudio("playing")
+        self.sound, self.head = sound, sound.position
+        self.stream = start_stream("playback", sounddevice.OutputStream, device, sound.channels, sound.rate,
+                                   self._callback)
+
+    def _callback(self, outdata, frames, time_info, status) -> None:
+        target = self.sound.position
+        if abs(self.head - target) > self.RESYNC_S * self.sound.rate:
+            self.head = target
+        chunk = self.sound.data[self.head:self.head + frames]
+        outdata[:len(chunk)] = chunk
+        outdata[len(chunk):] = 0.0
+        self.head += frames
+
+    def close(self) -> None:
+        self.stream.stop()
+        self.stream.close()
+
+
 class CaptureSound(Sound):
     """The default (or a named) capture device. Needs a sound card: cannot be tested here (no
     device in CI); the ring buffer logic is the same as FileSound's window."""
 
     def __init__(self, device: str | int | None = None, seconds: float = 1.0) -> None:
-        try:
-            import sounddevice
-        except (ImportError, OSError) as error:  # OSError: the PortAudio library itself is missing
-            raise UserError(f"audio: capture needs sounddevice and PortAudio ({error}): {AUDIO_EXTRA}, "
-                            "apt-get install libportaudio2") from None
+        sounddevice = portaudio("capture")
         try:
             info = sounddevice.query_devices(device, "input")
-            self.rate, self.channels = int(info["default_samplerate"]), max(1, min(2, int(info["max_input_channels"])))
-            self.ring = np.zeros((int(self.rate * seconds), self.channels), np.float32)
-            self.written = 0
-            self.lock = threading.Lock()
-            self.stream = sounddevice.InputStream(device=device, channels=self.channels, samplerate=self.rate,
-                                                  dtype="float32", callback=self._callback)
-            self.stream.start()
         except Exception as error:  # PortAudioError, ValueError: no such device
-            raise UserError(f"audio: no capture device {device if device is not None else '(default)'} "
-                            f"({error})") from None
+            raise no_device("capture", device, error) from None
+        self.rate, self.channels = int(info["default_samplerate"]), max(1, min(2, int(info["max_input_channels"])))
+        self.ring = np.zeros((int(self.rate * seconds), self.channels), np.float32)
+        self.written = 0
+        self.lock = threading.Lock()
+        self.stream = start_stream("capture", sounddevice.InputStream, device, self.channels, self.rate, self._callback)
 
     def _callback(self, indata, frames, time_info, status) -> None:
         data = indata[-len(self.ring):]

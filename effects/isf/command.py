@@ -3,7 +3,9 @@ plays: one JSON line per file (`--json`) with file, ok, error, passes, kind, mea
 
 Image inputs get the demo's depth view (the synthetic performer through `depth-view`; a
 transition's endImage the same in the turbo colour map), audio inputs a test tone. The show's
-time runs at 30 frames a second whatever the rendering speed, so a run is repeatable.
+time runs at 30 frames a second whatever the rendering speed, so a run is repeatable. A file that
+takes longer than --timeout (a shader that never ends) or crashes the driver is reported as not ok
+and the next file runs (effects/isf/bounded.py).
 """
 from __future__ import annotations
 
@@ -15,6 +17,7 @@ from pathlib import Path
 NAME = "isf"
 HELP = "render ISF shaders headless and report whether each plays (--json: one line per file)"
 FPS = 30.0
+TIMEOUT_S = 60.0  # the slowest Vidvox shader takes a few seconds at the defaults on a loaded 2-core llvmpipe
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -23,6 +26,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--frames", type=int, default=10, help="frames rendered per file (default 10)")
     parser.add_argument("--json", action="store_true", help="one JSON object per line")
     parser.add_argument("--snapshot-dir", type=Path, help="write the last frame of each file as NAME.png here")
+    parser.add_argument("--timeout", type=float, default=TIMEOUT_S, help="seconds a file may take before it is "
+                        f"reported as not ok and the next one runs (default {TIMEOUT_S:g})")
 
 
 def _size(text: str) -> tuple[int, int]:
@@ -36,14 +41,17 @@ def _size(text: str) -> tuple[int, int]:
 
 
 def main(args: argparse.Namespace) -> int:
-    from effects.isf.trial import Trial  # GL and the synthetic source only when the command runs
+    from effects.isf.bounded import BoundedTrial
 
     if args.frames < 1:
         sys.stderr.write("issv isf: --frames must be at least 1\n")
         return 2
+    if not args.timeout > 0:
+        sys.stderr.write("issv isf: --timeout must be more than 0 seconds\n")
+        return 2
     if args.snapshot_dir:
         args.snapshot_dir.mkdir(parents=True, exist_ok=True)
-    trial = Trial(args.size)
+    trial = BoundedTrial(args.size, args.timeout)
     results = []
     try:
         for path in args.files:

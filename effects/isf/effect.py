@@ -85,7 +85,7 @@ class Isf(Effect):
         check_bindings(self.shader, self.options.bind, self.options.values)
         self.sources = image_sources(self.shader, self.options.bind)
         # The show below and layer groups are read as drawn: the keystone is then one warp pass.
-        self.keystone_aware = not any(s == "below" or LAYERS.match(s) for s in self.sources.values())
+        self.keystone_aware = not any(stage_sized(s) for s in self.sources.values())
         ctx = stage.ctx
         self.runner = IsfRenderer(ctx, self.shader)
         # Only a shader that compiled hides the layers it reads from the stage.
@@ -183,8 +183,11 @@ class Isf(Effect):
             self.runner.draw(self.values, images, output, now, target.dt)
             return
         small = self.offscreen  # a heavy shader at `scale`, then stretched onto the stage
+        # The show below is seen at the shader's size: IMG_PIXEL(inputImage, gl_FragCoord.xy) reads
+        # the whole stage, not its lower-left corner (linear sampling does the shrinking).
+        sizes = {name: small.size for name in images if stage_sized(self.sources[name])}
         small.draw_into().clear(0.0, 0.0, 0.0, 0.0)
-        self.runner.draw(self.values, images, Output(small.bind, small.size), now, target.dt)
+        self.runner.draw(self.values, images, Output(small.bind, small.size), now, target.dt, sizes)
         small.swap()
         target.use()
         self.runner.show(small.current, Output(target.use, target.size, clip_on(target.to_clip, target.size)),
@@ -207,6 +210,11 @@ class Isf(Effect):
         for name in ("runner", "sound", "offscreen"):
             if getattr(self, name, None) is not None:
                 getattr(self, name).release()
+
+
+def stage_sized(source: str) -> bool:
+    """The show below or a layer group: an image the size of the stage."""
+    return source == "below" or bool(LAYERS.match(source))
 
 
 def layer_range(source: str) -> tuple[int, int]:

@@ -19,7 +19,12 @@ RESERVED = ("input", "output", "smooth", "flat", "noperspective", "filter", "com
             "union", "enum", "typedef", "template", "this", "packed", "goto", "inline", "noinline",
             "volatile", "public", "static", "extern", "external", "interface", "namespace", "using",
             "sizeof", "cast", "row_major", "asm", "class", "layout", "centroid", "invariant")
-_RESERVED = re.compile(r"\b(" + "|".join(RESERVED) + r")\b")
+# ... but not where they are what GLSL 1.30+ means by them: a qualifier before a declaration
+# (`flat out float x;`, `smooth in`, `invariant gl_Position`) or `layout(...)`.
+QUALIFIED = (r"(?:in|out|inout|varying|uniform|centroid|flat|smooth|noperspective|invariant|const|highp|mediump|"
+             r"lowp|float|int|uint|bool|vec[234]|ivec[234]|uvec[234]|bvec[234]|mat[234](?:x[234])?|gl_\w+)")
+_RESERVED = re.compile(r"\b(" + "|".join(RESERVED) + r")\b(?!\s+" + QUALIFIED + r"\b)"
+                       r"|\b(layout)\b(?!\s*\()")
 COMMON = [(re.compile(r"\btexture2DRect\b"), "texture"), (re.compile(r"\btexture2DProj\b"), "textureProj"),
           (re.compile(r"\btexture2DLod\b"), "textureLod"), (re.compile(r"\btexture2DGrad\b"), "textureGrad"),
           (re.compile(r"\btextureCube\b"), "texture"), (re.compile(r"\btexture2D\b"), "texture"),
@@ -36,15 +41,17 @@ VERTEX_ONLY = [(re.compile(r"\bvarying\b"), "out"), (re.compile(r"\battribute\b"
                (re.compile(r"\bgl_MultiTexCoord0\b"), "vec4(issv_position * 0.5 + 0.5, 0.0, 1.0)")]
 GIVEN = {"RENDERSIZE", "TIME", "TIMEDELTA", "FRAMEINDEX", "PASSINDEX", "DATE", "isf_FragNormCoord", "vv_FragNormCoord"}
 TEXTURE_VARIABLE = re.compile(r"\btexture\b(?!\s*\()")
+IMG_SIZED = re.compile(r"\bIMG_(PIXEL|SIZE)\s*\(\s*(\w+)\s*([,)])")
 
+PASSINDEX_UNIFORM = "uniform int PASSINDEX;\n"  # a constant in a program made for one pass
 BUILTINS = """uniform vec2 RENDERSIZE;
 uniform float TIME;
 uniform float TIMEDELTA;
 uniform int FRAMEINDEX;
-uniform int PASSINDEX;
-uniform vec4 DATE;
+""" + PASSINDEX_UNIFORM + """uniform vec4 DATE;
 #define IMG_NORM_PIXEL(img, coord) texture(img, coord)
 #define IMG_PIXEL(img, coord) texture(img, (coord) / vec2(textureSize(img, 0)))
+#define isf_img_pixel(img, size, coord) texture(img, (coord) / (size))
 #define IMG_THIS_NORM_PIXEL(img) texture(img, isf_FragNormCoord)
 #define IMG_THIS_PIXEL(img) texture(img, isf_FragNormCoord)
 #define IMG_SIZE(img) vec2(textureSize(img, 0))
@@ -97,10 +104,23 @@ def translate(body: str, stage: str, declared: set[str]) -> str:
         body = TEXTURE_VARIABLE.sub("isf_texture", body)
     for pattern, repl in COMMON + (FRAGMENT_ONLY if stage == "fragment" else VERTEX_ONLY):
         body = pattern.sub(repl, body)
-    body = _RESERVED.sub(r"isf_\1", body)
+    body = in_image_pixels(body, declared)
+    body = _RESERVED.sub(lambda m: f"isf_{m.group(1) or m.group(2)}", body)
     # A shader that declares what ISF already gives (its inputImage, TIME, isf_FragNormCoord) keeps one.
     redeclared = re.compile(r"^[ \t]*(?:uniform|in|out)\s+(?:(?:high|medium|low)p\s+)?\w+\s+(\w+)\s*;", re.M)
     return redeclared.sub(lambda m: "" if m.group(1) in declared | GIVEN else m.group(0), body)
+
+
+def in_image_pixels(body: str, declared: set[str]) -> str:
+    """IMG_PIXEL and IMG_SIZE of a named image read its `_NAME_imgSize`, as VVISF's do: the host
+    then says how big an image is to the shader. At `scale` the show below is a full-size texture
+    that the shader sees at its own size, with no extra pass to shrink it."""
+    def sized(match: re.Match) -> str:
+        kind, name, end = match.groups()
+        if f"_{name}_imgSize" not in declared or (kind == "PIXEL") != (end == ","):
+            return match.group(0)
+        return f"isf_img_pixel({name}, _{name}_imgSize," if kind == "PIXEL" else f"_{name}_imgSize"
+    return IMG_SIZED.sub(sized, body)
 
 
 def fragment_source(path: Path, text: str, header: Header) -> str:

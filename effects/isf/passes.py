@@ -95,10 +95,11 @@ class IsfRenderer:
 
     def __init__(self, ctx: moderngl.Context, shader: IsfShader) -> None:
         self.ctx, self.shader, self.header = ctx, shader, shader.header
-        self.prog = shader.program(ctx)
+        passes = range(len(self.header.passes))
+        self.progs = [shader.program(ctx, i) for i in passes] if shader.branches_on_pass else [shader.program(ctx)]
         self.copy = ctx.program(vertex_shader=COPY_VERTEX, fragment_shader=COPY_FRAGMENT)
         self.vbo = ctx.buffer(np.array([(-1, -1), (1, -1), (-1, 1), (1, 1)], "f4").tobytes())
-        self.vao = ctx.vertex_array(self.prog, [(self.vbo, "2f", "issv_position")])
+        self.vaos = [ctx.vertex_array(prog, [(self.vbo, "2f", "issv_position")]) for prog in self.progs]
         self.copy_vao = ctx.vertex_array(self.copy, [(self.vbo, "2f", "issv_position")])
         self.blank = ctx.texture((1, 1), 4, np.zeros(4, "u1").tobytes())
         self.imported = {name: load_image(ctx, path) for name, path in self.header.imported.items()}
@@ -108,9 +109,9 @@ class IsfRenderer:
         self.image_names += [n for n in list(self.imported) + [p.target for p in self.header.passes if p.target]
                              + list(self.header.persistent) if n and n not in self.image_names]
 
-    def set_values(self, values: dict[str, Any]) -> None:
+    def set_values(self, prog: moderngl.Program, values: dict[str, Any]) -> None:
         for name, value in values.items():
-            uniform = self.prog.get(glsl_name(name), None)
+            uniform = prog.get(glsl_name(name), None)
             kind = self.shader.inputs.get(name)
             if uniform is None or kind is None or kind in IMAGE_TYPES:
                 continue  # unused by the shader (the compiler dropped it), or an image
@@ -125,21 +126,25 @@ class IsfRenderer:
             uniform.value = value
 
     def draw(self, values: dict[str, Any], images: dict[str, moderngl.Texture], output: Output,
-             time: float, delta: float) -> None:
-        """All passes, then the output; `values` are the inputs' current values (sizes read them)."""
-        self.set_values(values)
+             time: float, delta: float, sizes: dict[str, tuple[int, int]] | None = None) -> None:
+        """All passes, then the output; `values` are the inputs' current values (sizes read them).
+        `sizes`: images the shader sees at another size than their texture's (IMG_PIXEL, IMG_SIZE)."""
         numeric = {k: v for k, v in values.items() if isinstance(v, (int, float))}
         now = dt.datetime.now()
         midnight = now.hour * 3600 + now.minute * 60 + now.second + now.microsecond / 1e6
-        self._uniform("TIME", time)
-        self._uniform("TIMEDELTA", delta)
-        self._uniform("FRAMEINDEX", self.frame)
-        self._uniform("DATE", (float(now.year), float(now.month), float(now.day), midnight))
+        for prog in self.progs:
+            self.set_values(prog, values)
+            set_uniform(prog, "TIME", time)
+            set_uniform(prog, "TIMEDELTA", delta)
+            set_uniform(prog, "FRAMEINDEX", self.frame)
+            set_uniform(prog, "DATE", (float(now.year), float(now.month), float(now.day), midnight))
         for name, spec in self.header.persistent.items():
             self._buffer(spec, output.size, numeric)
         last = len(self.header.passes) - 1
         for index, spec in enumerate(self.header.passes):
-            self._uniform("PASSINDEX", index)
+            one = index if len(self.progs) > 1 else 0
+            prog, vao = self.progs[one], self.vaos[one]
+            set_uniform(prog, "PASSINDEX", index)
             buffer = self._buffer(spec, output.size, numeric) if spec.target else None
             if buffer is not None:
                 buffer.bind()
@@ -147,11 +152,11 @@ class IsfRenderer:
             else:
                 output.bind()
                 size, clip, premultiply = output.size, output.clip, True
-            self._uniform("RENDERSIZE", (float(size[0]), float(size[1])))
-            self._uniform("issv_premultiply", premultiply)
-            self.prog["issv_clip"].write(mat3_bytes(clip))
-            self._bind_images(images)
-            self.vao.render(moderngl.TRIANGLE_STRIP)
+            set_uniform(prog, "RENDERSIZE", (float(size[0]), float(size[1])))
+            set_uniform(prog, "issv_premultiply", premultiply)
+            prog["issv_clip"].write(mat3_bytes(clip))
+            self._bind_images(prog, images, sizes or {})
+            vao.render(moderngl.TRIANGLE_STRIP)
             if buffer is not None:
                 buffer.swap()
                 if index == last:  # the output is the last pass's target: show it
@@ -178,26 +183,29 @@ class IsfRenderer:
         self.buffers[spec.target] = Buffer(self.ctx, size, spec.float)
         return self.buffers[spec.target]
 
-    def _bind_images(self, images: dict[str, moderngl.Texture]) -> None:
+    def _bind_images(self, prog: moderngl.Program, images: dict[str, moderngl.Texture],
+                     sizes: dict[str, tuple[int, int]]) -> None:
         for unit, name in enumerate(self.image_names):
             texture = images.get(name) or (self.buffers[name].current if name in self.buffers else None) \
                 or self.imported.get(name) or self.blank
             texture.use(unit)
-            self._uniform(glsl_name(name), unit)
-            w, h = texture.size
-            self._uniform(f"_{name}_imgSize", (float(w), float(h)))
-            self._uniform(f"_{name}_imgRect", (0.0, 0.0, float(w), float(h)))
-
-    def _uniform(self, name: str, value: Any) -> None:
-        uniform = self.prog.get(name, None)
-        if uniform is not None:
-            uniform.value = value
+            set_uniform(prog, glsl_name(name), unit)
+            w, h = sizes.get(name) or texture.size
+            set_uniform(prog, f"_{name}_imgSize", (float(w), float(h)))
+            set_uniform(prog, f"_{name}_imgRect", (0.0, 0.0, float(w), float(h)))
 
     def release(self) -> None:
         for buffer in self.buffers.values():
             buffer.release()
-        for obj in [self.vao, self.copy_vao, self.vbo, self.prog, self.copy, self.blank, *self.imported.values()]:
+        for obj in [*self.vaos, self.copy_vao, self.vbo, *self.progs, self.copy, self.blank, *self.imported.values()]:
             obj.release()
+
+
+def set_uniform(prog: moderngl.Program, name: str, value: Any) -> None:
+    """Sets a uniform the program uses (the compiler drops the others)."""
+    uniform = prog.get(name, None)
+    if uniform is not None:
+        uniform.value = value
 
 
 def load_image(ctx: moderngl.Context, path: Path) -> moderngl.Texture:

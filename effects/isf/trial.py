@@ -21,6 +21,13 @@ FPS = 30.0
 DEMO_SECONDS = 2.0  # the synthetic performer has raised a hand by then
 
 
+def colour_spread(pixels: np.ndarray) -> float:
+    """The pixels' standard deviation as colours (0..1): how far they lie from their mean colour,
+    0 exactly when the frame is one colour, however saturated (a solid red frame is flat)."""
+    flat = pixels.reshape(-1, pixels.shape[-1]).astype(np.float64) / 255.0
+    return float(np.sqrt(flat.var(axis=0).mean()))
+
+
 class DemoViews:
     """The demo's depth view, gray and turbo, one frame per show frame (made once, reused)."""
 
@@ -95,7 +102,7 @@ class Trial:
             error = self.ctx.error
             if error != "GL_NO_ERROR":
                 raise IsfError(f"{path}: OpenGL reports {error} while rendering")
-            result.update(ok=True, mean=round(float(pixels.mean()) / 255, 4), std=round(float(pixels.std()) / 255, 4))
+            result.update(ok=True, mean=round(float(pixels.mean()) / 255, 4), std=round(colour_spread(pixels), 4))
             if snapshot is not None:
                 cv2.imwrite(str(snapshot), cv2.cvtColor(pixels[::-1], cv2.COLOR_RGB2BGR))
         except IsfError as error:

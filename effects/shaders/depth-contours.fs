@@ -15,15 +15,20 @@
     ]
 }*/
 
+// Per-frame values from the vertex shader (depth-contours.vs): a CPU rasteriser pays for every
+// instruction per pixel, so nothing that is the same for the whole frame is computed here.
+flat in float invSpacing;   // 1 / spacing
+flat in float drift;        // TIME * speed / spacing
+flat in float boost;        // the flash on a wave
+
 void main() {
     float d = IMG_NORM_PIXEL(depthImage, isf_FragNormCoord).r;   // metres, 0 = no reading
     if (d <= 0.0 || d > far) {   // no reading, or the room behind the performer
         gl_FragColor = vec4(0.0);
         return;
     }
-    float phase = fract(d / spacing + TIME * speed / spacing);
+    float phase = fract(d * invSpacing + drift);
     float line = 1.0 - smoothstep(0.04, 0.1, min(phase, 1.0 - phase));   // near a contour
-    vec3 col = mix(nearColor.rgb, farColor.rgb, clamp((d - 1.0) / 3.0, 0.0, 1.0));
-    float boost = 1.0 + 2.0 * exp(-flash * 4.0);
+    vec3 col = mix(nearColor.rgb, farColor.rgb, clamp((d - 1.0) * (1.0 / 3.0), 0.0, 1.0));
     gl_FragColor = vec4(col * boost, max(line * 0.9, body));
 }

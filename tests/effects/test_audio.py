@@ -8,7 +8,7 @@ import pytest
 
 from effects.audio import Audio
 from effects.isf import Isf
-from host.audio import CaptureSound, FileSound
+from host.audio import CaptureSound, FileSound, Playback
 from host.errors import UserError
 from tests.host.render.stage import frames_with_hand, requires_gl, run_show
 
@@ -81,3 +81,38 @@ def test_no_capture_device_says_so_once_and_the_show_goes_on_silent(tmp_path, ca
     assert err.count("the show goes on silent") == 1 and "audio:" in err
     assert all(slot.enabled for slot in show.effects)
     assert image[24, 32].max() == 0  # silence: level 0, an empty spectrum
+
+
+@requires_gl
+def test_a_file_with_no_playback_device_is_not_heard_but_still_drives_the_effects(tmp_path, capsys):
+    try:
+        Playback(FileSound(wav(tmp_path, 0.0))).close()
+        pytest.skip("this machine has a playback device: the file is heard")
+    except UserError:
+        pass
+    shader = tmp_path / "meter.fs"
+    shader.write_text(METER)
+    path = wav(tmp_path, 0.0)
+    effects = [Audio(Audio.Options(file=str(path))), Isf(Isf.Options(file=str(shader), bind={"level": "audio.level"}))]
+    image = run_show(effects, frames_with_hand([HAND] * 3), tmp_path, (64, 48))[0]
+    err = capsys.readouterr().err
+    assert err.count("audio: no playback device") == 1 and f"{path} drives the effects but is not heard" in err
+    assert image[24, 32, 2] > 60  # the level still reaches the shader
+
+
+def test_the_play_head_runs_on_by_itself_and_jumps_when_the_source_moves_away(tmp_path):
+    """The device callback's logic, called as PortAudio would (no stream is opened: no device here)."""
+    sound = FileSound(wav(tmp_path, 0.0))
+    player = Playback.__new__(Playback)
+    player.sound, player.head = sound, 0
+    out = np.empty((441, 1), np.float32)
+    sound.seek(0.005)  # the source moved less than RESYNC_S: the head plays on from where it was
+    player._callback(out, 441, None, None)
+    assert player.head == 441 and np.array_equal(out, sound.data[:441])
+    sound.seek(1.0)  # a loop or a skip: the head jumps to the source
+    player._callback(out, 441, None, None)
+    assert player.head == RATE + 441 and np.array_equal(out, sound.data[RATE:RATE + 441])
+    sound.seek(sound.duration)  # past the end: silence, not an error
+    player.head = len(sound.data) - 10
+    player._callback(out, 441, None, None)
+    assert np.array_equal(out[:10], sound.data[-10:]) and not out[10:].any()

@@ -43,6 +43,41 @@ def test_shipped_shaders_play_and_a_broken_one_names_file_and_line(tmp_path):
     assert "5/6 ok" in run.stderr
 
 
+ENDLESS = """/*{"INPUTS": [{"NAME": "k", "TYPE": "float", "DEFAULT": 1.0}]}*/
+// far more work per pixel than a frame can afford (not a nested loop: llvmpipe caps those)
+float spin(float x) {
+    for (int i = 0; i < 60000; i++)
+        x = sin(x * k + float(i));
+    return x;
+}
+void main() {
+    float x = isf_FragNormCoord.x;
+    x = spin(x); x = spin(x); x = spin(x); x = spin(x); x = spin(x); x = spin(x); x = spin(x); x = spin(x);
+    x = spin(x); x = spin(x); x = spin(x); x = spin(x); x = spin(x); x = spin(x); x = spin(x); x = spin(x);
+    gl_FragColor = vec4(x, 0.0, 0.0, 1.0);
+}
+"""
+
+
+@requires_gl
+def test_a_shader_that_does_not_finish_in_time_is_not_ok_and_the_next_file_runs(tmp_path):
+    endless = tmp_path / "endless.fs"
+    endless.write_text(ENDLESS)
+    run = issv_isf(endless, SHADERS / "vidvox" / "Night Vision.fs", "--size", "64x36", "--frames", "2", "--json",
+                   "--timeout", "3")
+    assert run.returncode == 1, run.stderr
+    slow, good = (json.loads(line) for line in run.stdout.splitlines())
+    assert list(slow) == KEYS and not slow["ok"] and slow["kind"] == "generator" and slow["passes"] == 1
+    assert slow["error"] == f"{endless}: did not finish 2 frame(s) within 3 s (--timeout); skipped"
+    assert good["ok"] and good["std"] > 0.002
+    assert "1/2 ok" in run.stderr
+
+
+def test_a_timeout_must_be_positive():
+    run = issv_isf(SHADERS / "hand-glow.fs", "--timeout", "0")
+    assert run.returncode == 2 and "--timeout must be more than 0 seconds" in run.stderr
+
+
 def test_a_bad_size_is_refused():
     run = issv_isf(SHADERS / "hand-glow.fs", "--size", "big")
     assert run.returncode == 2 and "--size 'big': expected WxH" in run.stderr
@@ -63,3 +98,16 @@ def test_the_vidvox_collection_plays(tmp_path):
     assert len(failed) <= 1, failed
     flat = [r["file"] for r in results if r["std"] <= 0.002]
     assert len(flat) <= 4, flat
+
+
+def test_std_is_zero_for_a_frame_of_one_colour_however_saturated():
+    import numpy as np
+
+    from effects.isf.trial import colour_spread
+
+    red = np.zeros((4, 6, 3), np.uint8)
+    red[..., 0] = 255
+    assert colour_spread(red) == 0.0  # np.std over all values would say 0.47
+    half = red.copy()
+    half[:2] = 0
+    assert colour_spread(half) == pytest.approx(0.5 / np.sqrt(3), abs=1e-6)

@@ -1,5 +1,6 @@
 """`isf`: ISF shaders run with their inputs bound to hands, gestures and depth; a broken shader is
 one clear error naming its file and line, and the other layers keep rendering."""
+import numpy as np
 import pytest
 
 from effects.depth_view import DepthView
@@ -137,6 +138,22 @@ def test_a_filter_applies_to_everything_composited_below_it(tmp_path):
                         frames_with_hand([HAND] * 3), tmp_path, SIZE)[0]
     assert plain[5, 5].max() == 0 and inverted[5, 5].min() == 255  # the empty stage, inverted
     assert abs(int(inverted[120, 160, 0]) - (255 - int(plain[120, 160, 0]))) <= 2  # the performer box too
+
+
+INVERT_BY_PIXEL = INVERT.replace("IMG_THIS_PIXEL(inputImage)", "IMG_PIXEL(inputImage, gl_FragCoord.xy)")
+
+
+@requires_gl
+def test_a_filter_at_a_lower_scale_reads_the_show_below_at_its_own_size(tmp_path):
+    """IMG_PIXEL(inputImage, gl_FragCoord.xy) at scale 0.5 still sees the whole stage, not a corner."""
+    frames = frames_with_hand([HAND] * 3)
+    plain = run_show([DepthView(DepthView.Options())], frames, tmp_path, SIZE)[0]
+    half = run_show([DepthView(DepthView.Options()), isf(file=str(write(tmp_path, "inv.fs", INVERT_BY_PIXEL)), scale=0.5)],
+                    frames_with_hand([HAND] * 3), tmp_path, SIZE)[0]
+    inverted = 255 - plain.astype(int)
+    assert half[5, 5].min() == 255
+    assert abs(int(half[120, 160, 0]) - inverted[120, 160, 0]) <= 8  # the performer box where it was
+    assert np.abs(half.astype(int) - inverted).mean() < 6  # softer edges only
 
 
 @requires_gl

@@ -22,7 +22,7 @@ def ctx():
     context.release()
 
 
-def render(ctx, path, frames=1, values=None, images=None):
+def render(ctx, path, frames=1, values=None, images=None, sizes=None):
     """The last of `frames` frames as RGBA floats 0..1, row 0 at the top."""
     shader = IsfShader(path)
     runner = IsfRenderer(ctx, shader)
@@ -36,7 +36,7 @@ def render(ctx, path, frames=1, values=None, images=None):
     try:
         for i in range(frames):
             fbo.clear(0.0, 0.0, 0.0, 0.0)
-            runner.draw({**shader.defaults, **(values or {})}, images or {}, Output(bind, SIZE), i / 30, 1 / 30)
+            runner.draw({**shader.defaults, **(values or {})}, images or {}, Output(bind, SIZE), i / 30, 1 / 30, sizes)
         pixels = np.frombuffer(fbo.read(components=4), np.uint8).reshape(SIZE[1], SIZE[0], 4)
         return pixels[::-1] / 255.0
     finally:
@@ -71,6 +71,25 @@ def test_a_persistent_buffer_keeps_its_pixels_across_frames_and_float_keeps_valu
     assert image[..., 0].mean() == pytest.approx(expected, abs=0.01)  # 8-bit buffers stop at 1.0
 
 
+def test_each_pass_that_branches_on_passindex_is_a_program_of_its_own_with_passindex_constant(ctx, tmp_path):
+    path = write(tmp_path, "three.fs", """/*{"PASSES": [{"TARGET": "a"}, {"TARGET": "b"}, {}]}*/
+void main() {
+    if (PASSINDEX == 0) gl_FragColor = vec4(0.25, 0.0, 0.0, 1.0);
+    else if (PASSINDEX == 1) gl_FragColor = IMG_THIS_PIXEL(a) + vec4(0.0, 0.5, 0.0, 0.0);
+    else gl_FragColor = IMG_THIS_PIXEL(b) + vec4(0.0, 0.0, float(PASSINDEX) / 4.0, 0.0);
+}
+""")
+    shader = IsfShader(path)
+    assert shader.branches_on_pass
+    program = shader.program(ctx, 2)
+    try:
+        assert program.get("PASSINDEX", None) is None  # a constant: the other passes' code is gone
+    finally:
+        program.release()
+    r, g, b, _ = render(ctx, path)[60, 80]
+    assert (r, g, b) == pytest.approx((0.25, 0.5, 0.5), abs=0.01)
+
+
 def test_a_pass_size_expression_sizes_its_buffer(ctx, tmp_path):
     path = write(tmp_path, "size.fs", """/*{
     "INPUTS": [{"NAME": "quality", "TYPE": "float", "DEFAULT": 0.5}],
@@ -95,6 +114,14 @@ def test_a_companion_vertex_shader_and_old_glsl_run(ctx, tmp_path):
                                                "    gl_FragColor = vec4(input, 0.0, 0.0, 1.0);\n}\n")
     image = render(ctx, path)
     assert image[0, 80, 0] < 0.02 and image[-1, 80, 0] > 0.98  # flipped: 0 at the top, 1 at the bottom
+
+
+def test_glsl_130_qualifiers_stay_qualifiers_while_old_names_that_are_now_reserved_are_renamed(ctx, tmp_path):
+    write(tmp_path, "q.vs", "flat out float level;\nvoid main() { isf_vertShaderInit(); level = 0.5; }\n")
+    path = write(tmp_path, "q.fs", '/*{"INPUTS": []}*/\nflat in float level;\n'
+                                   "float smooth(float filter) { float flat = filter; return flat; }\n"
+                                   "void main() { gl_FragColor = vec4(smooth(level), 0.0, 0.0, 1.0); }\n")
+    assert render(ctx, path)[60, 80, 0] == pytest.approx(0.5, abs=0.01)
 
 
 def test_an_error_in_the_vertex_shader_names_the_vs_file_and_line(ctx, tmp_path):
@@ -128,6 +155,20 @@ def test_an_image_input_is_sampled_with_img_pixel_in_pixels(ctx, tmp_path):
     path = write(tmp_path, "px.fs", '/*{"INPUTS": [{"NAME": "inputImage", "TYPE": "image"}]}*/\n'
                                     "void main() { gl_FragColor = IMG_PIXEL(inputImage, vec2(2.5, 0.5)); }\n")
     assert render(ctx, path, images={"inputImage": texture})[5, 5, 0] == pytest.approx(120 / 255, abs=0.01)
+    texture.release()
+
+
+def test_an_image_seen_at_another_size_is_read_in_that_size_pixels(ctx, tmp_path):
+    """At `scale` the host gives the full-size show and the size the shader sees it at."""
+    row = np.zeros((8, 4), np.uint8)
+    row[:, 0], row[:, 3] = np.arange(8) * 30, 255
+    texture = ctx.texture((8, 2), 4, np.stack([row, row]).tobytes())
+    texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
+    path = write(tmp_path, "px.fs", '/*{"INPUTS": [{"NAME": "inputImage", "TYPE": "image"}]}*/\n'
+                                    "void main() { gl_FragColor = vec4(IMG_PIXEL(inputImage, vec2(2.9, 0.5)).r,"
+                                    " IMG_SIZE(inputImage) / 255.0, 1.0); }\n")
+    r, g, b, _ = render(ctx, path, images={"inputImage": texture}, sizes={"inputImage": (4, 1)})[5, 5] * 255
+    assert round(r) == 150 and (round(g), round(b)) == (4, 1)  # x 2.9 of 4 is texel 5 of 8
     texture.release()
 
 
