@@ -417,6 +417,7 @@ class _Hand:
         return (stroke.direction < 0 and core.travel >= r.click_min_travel_mm * k
                 and core.peak_speed >= r.click_min_peak_speed_mm_s
                 and core.travel >= r.click_dominance * sideways
+                and core.travel >= r.click_min_forward_per_rise * float(end.p[Y] - core.start.p[Y])
                 and self.ends_forward(core, r.click_end_mm * k) >= r.click_end_dominance
                 and -float(end.p[Z]) >= r.click_min_reach_mm * k
                 and float(end.p[Y]) >= end.shoulder - r.click_max_below_shoulder_mm * k
