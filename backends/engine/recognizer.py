@@ -445,8 +445,8 @@ class _Hand:
         return min(float(np.linalg.norm(q.v)) for q in (stroke.end, *soon)) <= self.r.click_halt_max_speed_mm_s
 
     def click(self, stroke: Stroke) -> None:
-        """A push, unless it is the arms' swing of running (the third of alternating strokes back and
-        forth) or both arms rising forward from the sides together (squatting, jumping)."""
+        """A push, unless it is an arm's swing: after two swings back and forth, with another arm
+        swinging back, or both arms rising forward from the sides together."""
         chain = self.tr.chains[Z]
         if chain and not (chain[-1].direction == -stroke.direction
                           and stroke.start.t - chain[-1].end.t <= self.r.oscillation_max_gap_s):
@@ -456,19 +456,22 @@ class _Hand:
             chain.append(stroke)
         else:
             chain.clear()
-        if len(chain) >= 4 or not (self.click_like(stroke) and self.halted(stroke)) or self.arms_rising_together(stroke):
+        if len(chain) >= 4 or not (self.click_like(stroke) and self.halted(stroke)) or self.arms_swinging(stroke):
             return
         self.emit("click", GestureState.COMPLETE, self.click_confidence(stroke), stroke.end)
 
-    def arms_rising_together(self, stroke: Stroke) -> bool:
-        """Did the push start from a hanging hand while another hand rose forward with it?"""
+    def arms_swinging(self, stroke: Stroke) -> bool:
+        """Did another hand swing back as this one came forward (running, walking), or rise forward
+        with it from hanging at the side (squatting, jumping)?"""
         core = self.core(stroke)
-        if core.start.p[Y] - core.start.shoulder > -self.r.click_hanging_below_shoulder_mm * self.rec.size(core.start):
-            return False
+        ratio = self.r.swipe_comparable_ratio
+        hanging = core.start.p[Y] - core.start.shoulder <= -self.r.click_hanging_below_shoulder_mm * self.rec.size(core.start)
         for other in self.others:
             during = [q for q in other.samples if core.start.t <= q.t <= core.end.t]
-            if len(during) >= 2 and (during[0].p[Z] - during[-1].p[Z] >= self.r.swipe_comparable_ratio * core.travel
-                                     and during[-1].p[Y] - during[0].p[Y] >= self.r.swipe_comparable_ratio * core.travel):
+            if len(during) < 2:
+                continue
+            forward, up = during[0].p[Z] - during[-1].p[Z], during[-1].p[Y] - during[0].p[Y]
+            if forward <= -ratio * core.travel or (hanging and forward >= ratio * core.travel and up >= ratio * core.travel):
                 return True
         return False
 

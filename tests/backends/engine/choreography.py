@@ -177,3 +177,39 @@ def clap(claps: int = 4, apart: float = 600.0, beat: float = 0.25) -> Performanc
             path = path.then(beat, together).then(beat, wide)
         hands[side] = path.then(0.6, REST[side])
     return Performance(hands, max(p.end for p in hands.values()) + 0.5)
+
+
+def hands_at_the_eyes(jiggle: float = 60.0, beat: float = 0.15, times: int = 8) -> Performance:
+    """Both hands brought up to the eyes (MSRC-12's "goggles"), jiggling `jiggle` mm sideways together."""
+    hands = {}
+    for side, sign in ((Side.LEFT, -1.0), (Side.RIGHT, 1.0)):
+        eye = (sign * 70.0, 500.0, -150.0)
+        path = rest(side).hold(0.3).then(0.6, eye)
+        for i in range(times):
+            path = path.then(beat, (eye[0] + (jiggle if i % 2 == 0 else 0.0), eye[1], eye[2]))
+        hands[side] = path.hold(0.2).then(0.6, REST[side])
+    return Performance(hands, max(p.end for p in hands.values()) + 0.5)
+
+
+def rise_forward(to: tuple[float, float, float], seconds: float = 0.5, both: bool = False) -> Performance:
+    """From hanging at the side, the right hand (or both, mirrored) arcs up and forward to `to`, holds."""
+    hands = {}
+    for side, sign in ((Side.LEFT, -1.0), (Side.RIGHT, 1.0)):
+        if side is Side.LEFT and not both:
+            hands[side] = rest(side)
+            continue
+        hands[side] = rest(side).hold(0.4).then(seconds, (sign * to[0], to[1], to[2])).hold(0.8)
+    return Performance(hands, max(getattr(p, "end", 0.0) for p in hands.values()) + 0.5)
+
+
+def run_in_place(seconds: float = 3.0, swing: float = 450.0, period: float = 0.6) -> Performance:
+    """Running on the spot: the arms pump forward and up, back and down, in turn, `period` s a cycle."""
+    def arm(side: Side) -> Callable[[float], np.ndarray]:
+        phase = 0.0 if side is Side.LEFT else np.pi
+
+        def at(t: float) -> np.ndarray:
+            s = np.sin(2 * np.pi * t / period + phase) * min(1.0, t / 0.3)
+            return np.array(REST[side]) + np.array([0.0, 230.0 * (1 + s), -swing / 2 * (1 + s)])
+        return at
+
+    return Performance({Side.LEFT: arm(Side.LEFT), Side.RIGHT: arm(Side.RIGHT)}, seconds)

@@ -72,6 +72,26 @@ def test_a_wave_below_the_shoulders_or_with_two_swings_is_not_a_wave():
     assert completed(perform(c.wave(swings=2))) == []  # one reversal
 
 
+def test_a_wave_from_the_wrist_at_shoulder_height_is_a_wave():
+    """6 cm swings at 3 Hz, the hand in front of the shoulder (Kinder-Gator adults wave like this)."""
+    assert completed(perform(c.wave(swings=6, amplitude=60, half_period=0.17, height=200))) == ["wave"]
+
+
+def test_hands_jiggling_at_the_eyes_are_no_wave():
+    """Both hands near each other: the other hand is not elsewhere, as a waving performer's is."""
+    assert "wave" not in completed(perform(c.hands_at_the_eyes()))
+
+
+def test_a_push_rising_from_a_hanging_hand_is_a_click():
+    assert completed(perform(c.rise_forward((150.0, 200.0, -600.0)))) == ["click"]
+
+
+def test_arms_rising_forward_together_an_arm_lifted_or_running_arms_are_no_click():
+    assert completed(perform(c.rise_forward((150.0, 200.0, -600.0), both=True))) == []  # squatting
+    assert completed(perform(c.rise_forward((250.0, 350.0, -450.0)))) == []  # lifted more than pushed
+    assert "click" not in completed(perform(c.run_in_place()))
+
+
 def test_clapping_is_neither_swipes_nor_a_wave():
     """Each hand alone would sweep 27 cm sideways, again and again, at shoulder height."""
     assert completed(perform(c.clap(claps=4, apart=600))) == []
