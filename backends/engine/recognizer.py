@@ -362,7 +362,8 @@ class _Hand:
         k = self.rec.size(stroke.start)
         return (stroke.duration <= r.wave_max_stroke_s and stroke.travel >= r.wave_min_amplitude_mm * k
                 and stroke.dominance >= r.wave_min_dominance
-                and stroke.lowest >= stroke.start.shoulder - r.wave_max_below_shoulder_mm * k
+                and max(float(q.p[Y]) for q in stroke.samples) >= stroke.start.shoulder - r.wave_max_below_shoulder_mm * k
+                and stroke.lowest >= stroke.start.shoulder - r.wave_arc_below_shoulder_mm * k
                 and stroke.end.seen_since == stroke.start.seen_since
                 and self.hands_apart(stroke) >= r.wave_min_hands_apart_mm * k
                 and not self.mirrored_by_other_hand(stroke))

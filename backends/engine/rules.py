@@ -81,6 +81,10 @@ class GestureRules(BaseModel):
     wave_min_dominance: float = Field(
         0.5, gt=0, description="a wave's swing runs at least this much more sideways than up, down or "
         "forward (a forearm swinging about the elbow moves the hand along an arc)")
+    wave_arc_below_shoulder_mm: float = Field(
+        350.0, description="a whole arm waving dips this far below the shoulders at the bottom of its arc "
+        "(the swing's highest point is judged by `wave_max_below_shoulder_mm`); a hand on the hip or "
+        "hanging is lower")
     wave_min_swing_s: float = Field(
         0.1, ge=0, description="median duration of a wave's swings: nobody waves faster than 5 Hz; "
         "quicker reversals are a skeleton's jitter or glitches")
@@ -91,8 +95,8 @@ class GestureRules(BaseModel):
         "(waves swing at 1-4 Hz: 0.12-0.5 s a swing)")
     wave_min_reversals: int = Field(3, ge=1, description="direction reversals needed: 3 = right-left-right-left")
     wave_max_below_shoulder_mm: float = Field(
-        150.0, description="the waving hand stays no lower than this below the shoulders: in front of "
-        "the chest or higher (a hand swinging at the hip while walking is no wave)")
+        150.0, description="every swing of a wave reaches no lower than this below the shoulders: in "
+        "front of the chest or higher (a hand swinging at the hip while walking is no wave)")
 
     # --- click / push -------------------------------------------------------------------------
     click_min_travel_mm: float = Field(200.0, gt=0, description="forward travel towards the camera")
