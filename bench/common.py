@@ -4,6 +4,8 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import signal
+import subprocess
 import sys
 from pathlib import Path
 
@@ -70,3 +72,14 @@ def report(title: str, figures: dict, rows: list[list], columns: list[str], as_j
     if not console.is_terminal:  # a log or a pipe: keep every column whole
         console = Console(width=200)
     console.print(table)
+
+
+def stop(proc: subprocess.Popen) -> None:
+    """Stop a helper started in its own process group: Ctrl-C first, then kill after 10 s."""
+    if proc.poll() is None:
+        os.killpg(proc.pid, signal.SIGINT)
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()

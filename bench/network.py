@@ -25,7 +25,6 @@ import glob
 import json
 import os
 import shutil
-import signal
 import socket
 import subprocess
 import sys
@@ -35,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import add_data_argument, data_set, report
+from bench.common import add_data_argument, data_set, report, stop
 from host import DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics, Side
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -280,12 +279,7 @@ def run_case(transport: str, shaped: bool, seconds: float, data: Path | None = N
         got = json.loads(sub.communicate(timeout=30)[0].strip().splitlines()[-1])
     finally:
         for p in reversed(procs):
-            if p.poll() is None:
-                os.killpg(p.pid, signal.SIGINT)
-                try:
-                    p.wait(timeout=10)
-                except subprocess.TimeoutExpired:
-                    os.killpg(p.pid, signal.SIGKILL)
+            stop(p)
         if link is not None:
             link.__exit__()
     return _row(transport, shaped, sent, got)

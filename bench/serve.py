@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import json
 import os
-import signal
 import subprocess
 import sys
 import tempfile
@@ -27,7 +26,7 @@ from pathlib import Path
 import numpy as np
 import tomlkit
 
-from bench.common import parse_args, report
+from bench.common import parse_args, report, stop
 from bench.network import _free_port
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -64,16 +63,6 @@ def wait_for(log: Path, text: str, proc: subprocess.Popen, timeout: float = 60.0
         if proc.poll() is not None or time.monotonic() > deadline:
             raise RuntimeError(f"bench.serve: {log.stem} never said {text!r}: {log.read_text()[-2000:]}")
         time.sleep(0.05)
-
-
-def stop(proc: subprocess.Popen) -> None:
-    if proc.poll() is None:
-        os.killpg(proc.pid, signal.SIGINT)
-    try:
-        proc.wait(timeout=10)
-    except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGKILL)
-        proc.wait()
 
 
 def latency(metrics: Path) -> dict:
