@@ -11,11 +11,12 @@ matched against the rules (rules.py):
   back-and-forth (neither is a swipe); the third of alternating strokes is a wave's, never a
   swipe. If the hand leaves the view meanwhile, the swipe completes, except a swipe down: a hand
   lost after a stroke down went back to rest (a swipe down waits while its hand is unseen).
-- WAVE: several direction reversals of horizontal strokes, each large and quick enough, with
-  the hand near or above the shoulders.
+- WAVE: several direction reversals of horizontal swings, from the wrist (4 cm) to the whole arm,
+  each quick, reaching the shoulders' height or above, with the other hand elsewhere (hands at
+  the eyes or on the head, or clapping, are no wave).
 - CLICK (PUSH): a fast stroke towards the camera ending far in front of the body at chest height,
-  heading straight forward at its end (from the chest or from a hanging hand alike), after which
-  the hand halts (stops or comes back).
+  still heading forward at its end (from the chest, or rising from a hanging hand), after which
+  the hand halts (stops or comes back); not an arm's swing (running, walking, squatting).
 - HAND_RAISE: the hand up above the head and clear of it (hands put on the head are no raise),
   then stopping: at the top of a lift, or held there.
 Distance thresholds are stated for an adult and scale with the performer's size (the torso to
@@ -56,6 +57,17 @@ _HISTORY_S = 3.0  # how much of each hand's past is kept (longer than any gestur
 def _drop(stroke: Stroke) -> bool:
     """A stroke down: a swipe down, or an arm going back to rest if the hand is lost after it."""
     return stroke.axis == Y and stroke.direction < 0
+
+
+def _extend(chain: list[Stroke], stroke: Stroke, counts: bool, max_gap_s: float) -> None:
+    """Alternating strokes, each starting within `max_gap_s` of the last: add `stroke` if it
+    `counts`, else the run is broken."""
+    if chain and not (chain[-1].direction == -stroke.direction and stroke.start.t - chain[-1].end.t <= max_gap_s):
+        chain.clear()
+    if counts:
+        chain.append(stroke)
+    else:
+        chain.clear()
 
 
 def _margin(value: float, threshold: float) -> float:
@@ -319,15 +331,10 @@ class _Hand:
 
     def stroke_ended(self, stroke: Stroke, reversed_: bool) -> None:
         chain = self.tr.chains[stroke.axis]
-        if chain and not (chain[-1].direction == -stroke.direction
-                          and stroke.start.t - chain[-1].end.t <= self.r.oscillation_max_gap_s):
-            chain.clear()
-        if (stroke.travel >= self.r.oscillation_min_travel_mm and stroke.dominance >= self.r.oscillation_min_dominance
-                and stroke.lowest >= self.r.active_min_height_mm
-                and stroke.end.seen_since == stroke.start.seen_since):  # not lost on the way
-            chain.append(stroke)
-        else:
-            chain.clear()
+        _extend(chain, stroke, stroke.travel >= self.r.oscillation_min_travel_mm
+                and stroke.dominance >= self.r.oscillation_min_dominance and stroke.lowest >= self.r.active_min_height_mm
+                and stroke.end.seen_since == stroke.start.seen_since,  # not lost on the way
+                self.r.oscillation_max_gap_s)
         pending = self.tr.pending.pop(stroke.axis, None)
         # a comparable stroke the other way after a pending swipe: a wind-up and the real swipe, or a
         # back-and-forth; either way the first was no swipe. Otherwise the first is confirmed now.
@@ -382,13 +389,9 @@ class _Hand:
     def wave(self, stroke: Stroke, reversed_: bool) -> None:
         """Count the swings of a wave: alternating wave strokes, each starting soon after the last."""
         run = self.tr.waving
-        if not self.wave_stroke(stroke):
-            run.clear()
+        _extend(run, stroke, self.wave_stroke(stroke), self.r.oscillation_max_gap_s)
+        if not run:
             return
-        if run and not (run[-1].direction == -stroke.direction
-                        and stroke.start.t - run[-1].end.t <= self.r.oscillation_max_gap_s):
-            run.clear()
-        run.append(stroke)
         first = run[0]
         reversals = len(run) - 1 + int(reversed_)
         if first.start.t <= self.tr.wave_done_at:
@@ -449,14 +452,8 @@ class _Hand:
         """A push, unless it is an arm's swing: after two swings back and forth, with another arm
         swinging back, or both arms rising forward from the sides together."""
         chain = self.tr.chains[Z]
-        if chain and not (chain[-1].direction == -stroke.direction
-                          and stroke.start.t - chain[-1].end.t <= self.r.oscillation_max_gap_s):
-            chain.clear()
-        if (stroke.travel >= self.r.oscillation_min_travel_mm * self.rec.size(stroke.start)
-                and stroke.duration <= self.r.swing_max_stroke_s):
-            chain.append(stroke)
-        else:
-            chain.clear()
+        _extend(chain, stroke, stroke.travel >= self.r.oscillation_min_travel_mm * self.rec.size(stroke.start)
+                and stroke.duration <= self.r.swing_max_stroke_s, self.r.oscillation_max_gap_s)
         if len(chain) >= 4 or not (self.click_like(stroke) and self.halted(stroke)) or self.arms_swinging(stroke):
             return
         self.emit("click", GestureState.COMPLETE, self.click_confidence(stroke), stroke.end)
