@@ -70,6 +70,11 @@ def _extend(chain: list[Stroke], stroke: Stroke, counts: bool, max_gap_s: float)
         chain.clear()
 
 
+def _during(track: _HandTrack, stroke: Stroke) -> list[Sample]:
+    """Another hand's samples while `stroke` was under way."""
+    return [q for q in track.samples if stroke.start.t <= q.t <= stroke.end.t]
+
+
 def _margin(value: float, threshold: float) -> float:
     """0 at the threshold, 1 at twice the threshold (or more)."""
     return float(np.clip(value / threshold - 1.0, 0.0, 1.0)) if threshold > 0 else 1.0
@@ -306,7 +311,7 @@ class _Hand:
         """Did another hand make the opposite motion at the same time (a clap, arms spreading)?
         Swipes and waves are made by one hand."""
         for other in self.others:
-            during = [q for q in other.samples if stroke.start.t <= q.t <= stroke.end.t]
+            during = _during(other, stroke)
             if len(during) >= 2:
                 against = max(-stroke.direction * (q.p[stroke.axis] - during[0].p[stroke.axis]) for q in during)
                 if against >= self.r.swipe_comparable_ratio * stroke.travel:
@@ -369,7 +374,7 @@ class _Hand:
         k = self.rec.size(stroke.start)
         return (stroke.duration <= r.wave_max_stroke_s and stroke.travel >= r.wave_min_amplitude_mm * k
                 and stroke.dominance >= r.wave_min_dominance
-                and max(float(q.p[Y]) for q in stroke.samples) >= stroke.start.shoulder - r.wave_max_below_shoulder_mm * k
+                and stroke.highest >= stroke.start.shoulder - r.wave_max_below_shoulder_mm * k
                 and stroke.lowest >= stroke.start.shoulder - r.wave_arc_below_shoulder_mm * k
                 and stroke.end.seen_since == stroke.start.seen_since
                 and self.hands_apart(stroke) >= r.wave_min_hands_apart_mm * k
@@ -379,7 +384,7 @@ class _Hand:
         """How near the other hands came to this one during the stroke, mm (inf: no other hand)."""
         near = float("inf")
         for other in self.others:
-            theirs = {round(q.t, 4): q.p for q in other.samples if stroke.start.t <= q.t <= stroke.end.t}
+            theirs = {round(q.t, 4): q.p for q in _during(other, stroke)}
             for q in stroke.samples:
                 p = theirs.get(round(q.t, 4))
                 if p is not None:
@@ -465,7 +470,7 @@ class _Hand:
         ratio = self.r.swipe_comparable_ratio
         hanging = core.start.p[Y] - core.start.shoulder <= -self.r.click_hanging_below_shoulder_mm * self.rec.size(core.start)
         for other in self.others:
-            during = [q for q in other.samples if core.start.t <= q.t <= core.end.t]
+            during = _during(other, core)
             if len(during) < 2:
                 continue
             forward, up = during[0].p[Z] - during[-1].p[Z], during[-1].p[Y] - during[0].p[Y]

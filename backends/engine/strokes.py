@@ -99,6 +99,11 @@ class Stroke:
         """Lowest height of the hand over the stroke, relative to the torso, mm."""
         return min(float(s.p[Y]) for s in self.samples)
 
+    @property
+    def highest(self) -> float:
+        """Highest height of the hand over the stroke, relative to the torso, mm."""
+        return max(float(s.p[Y]) for s in self.samples)
+
 
 class AxisStrokes:
     """Segments one axis of a stream of samples into strokes, with a hysteresis and a stop time."""
