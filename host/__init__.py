@@ -20,6 +20,7 @@ from host.model import (
     Side,
     Truth,
     TruthGesture,
+    UserTruth,
     User,
     Vec3,
 )
@@ -44,5 +45,5 @@ __all__ = [
     "Backend", "CANONICAL_GESTURES", "ColourFrame", "DepthFrame", "DeviceInfo", "Effect", "Frame", "Gesture",
     "GestureState", "GestureType", "Hand", "HandState", "Intrinsics", "JOINTS", "Joint", "NoOptions", "PUBLIC_MODULES",
     "Plugin", "PluginUnavailable", "Recognizer", "SimpleOpenNIEffect", "Side", "Source", "Stage", "Truth",
-    "TruthGesture", "User", "Vec3", "hookimpl", "profile_source", "__version__",
+    "TruthGesture", "User", "UserTruth", "Vec3", "hookimpl", "profile_source", "__version__",
 ]

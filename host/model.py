@@ -129,12 +129,28 @@ class TruthGesture:
 
 
 @dataclass(frozen=True)
+class UserTruth:
+    """One performer of several: who they are in the scene (`id`, the source's own numbering,
+    stable for the whole scene) and their hands, body points and gestures at this instant."""
+
+    id: int
+    hands: dict[Side, Vec3] = field(default_factory=dict)
+    body: dict[str, Vec3] = field(default_factory=dict)
+    gestures: tuple[TruthGesture, ...] = ()
+
+
+@dataclass(frozen=True)
 class Truth:
-    """Ground truth a source knows (synthetic performer, clips with skeletons)."""
+    """Ground truth a source knows (synthetic performer, clips with skeletons).
+
+    `hands`, `gestures` and `body` are the first performer's (the only one for most sources);
+    a scene of several performers also lists every performer in view in `users`.
+    """
 
     hands: dict[Side, Vec3] = field(default_factory=dict)
     gestures: tuple[TruthGesture, ...] = ()
     body: dict[str, Vec3] = field(default_factory=dict)
+    users: tuple[UserTruth, ...] = ()
 
 
 def _owned(array: np.ndarray) -> np.ndarray:
@@ -344,6 +360,9 @@ class Frame:
 
     `users` are the people the backend tracks (empty for backends that know only hands);
     `time` is the source's clock in seconds for frames without a depth image (an OSC tracker).
+    `user_labels` is one label image for all users (uint8 (H, W) like depth: 0 nobody, else the
+    user's id); `user_mask` is every user's pixels. Both are made on first use, off the sensor
+    thread, so a show without a silhouette never pays for them.
     """
 
     seq: int
@@ -355,12 +374,20 @@ class Frame:
     make_user_mask: Callable[[], np.ndarray | None] | None = field(default=None, repr=False, compare=False)
     users: tuple[User, ...] = ()
     time: float = 0.0
+    make_user_labels: Callable[[], np.ndarray | None] | None = field(default=None, repr=False, compare=False)
+
+    @cached_property
+    def user_labels(self) -> np.ndarray | None:
+        """uint8 (H, W) like depth: 0 where nobody is, else the id of the user seen there."""
+        return None if self.make_user_labels is None else self.make_user_labels()
 
     @cached_property
     def user_mask(self) -> np.ndarray | None:
-        """bool (H, W) like depth: the performer's pixels, if the backend knows them. Made on first
-        use (off the sensor thread), so a show without a silhouette never pays for it."""
-        return None if self.make_user_mask is None else self.make_user_mask()
+        """bool (H, W) like depth: the performers' pixels, if the backend knows them."""
+        if self.make_user_mask is not None:
+            return self.make_user_mask()
+        labels = self.user_labels
+        return None if labels is None else labels > 0
 
     @property
     def timestamp(self) -> float:
