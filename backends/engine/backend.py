@@ -1,4 +1,4 @@
-"""The open engine as backends: depth -> HandTracker -> GestureRecognizer -> Frame.
+"""The open engine as backends: depth -> Engine (people, a HandTracker and GestureRecognizer each) -> Frame.
 
 One class does the work; the named backends differ only in their dictionary (which gestures,
 under which native names), whether hands wait for a focus gesture, and the sensor geometry they
@@ -13,37 +13,13 @@ from typing import ClassVar, Mapping
 import numpy as np
 from pydantic import Field
 
+from backends.engine.engine import Engine, EngineFrame, EngineOptions
 from backends.engine.geometry import KINECT_V1, to_geometry
 from backends.engine.recognizer import NITE_DICTIONARY, NUITRACK_DICTIONARY, GestureRecognizer
-from backends.engine.rules import GestureRules
 from backends.engine.sides import RestingHands
-from backends.engine.tracker import HandTracker, TrackerOptions, TrackResult
-from host import Backend, DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState
+from host import Backend, Frame, Gesture, GestureState, GestureType, Hand, HandState
 
-
-class EngineOptions(TrackerOptions):
-    """The tracker's options (mm, s) plus `gestures`: overrides of any GestureRules threshold."""
-
-    gestures: GestureRules = Field(default_factory=GestureRules,
-                                   description="gesture thresholds (mm, s), e.g. {swipe_min_travel_mm = 300}")
-
-
-class Engine:
-    """Tracker and recogniser for one stream of depth frames."""
-
-    def __init__(self, options: EngineOptions, dictionary: Mapping[str, GestureType] | None) -> None:
-        self.tracker = HandTracker(options)
-        self.recognizer = GestureRecognizer(options.gestures, dictionary)
-        self.last: TrackResult | None = None
-
-    def step(self, depth: DepthFrame) -> tuple[TrackResult, list[Gesture]]:
-        result = self.tracker.process(depth)
-        self.last = result
-        # A hand held where it was last seen (a dropout of a frame or two) is no measurement: its
-        # standing still would read as a stop. The recogniser gets the hands found in this frame.
-        measured = [h for h in result.hands if h.id in result.seen or not h.in_view]
-        gestures = self.recognizer.update(depth.timestamp, measured, result.body, depth.mirrored)
-        return result, gestures
+__all__ = ["Engine", "EngineBackend", "EngineOptions"]
 
 
 _announced: set[str] = set()
@@ -89,9 +65,14 @@ class EngineBackend(Backend):
         self._seq = 0
         self._focused: set[int] = set()
         self._shown: set[int] = set()
-        rules, o = self.options.gestures, self.options
-        self._sides = (RestingHands(rules.rest_below_torso_mm, rules.rest_in_front_of_torso_mm,
-                                    o.hands.shoulder_half_width_mm, o.lost_timeout_s) if self.both_hands else None)
+        self._sides: dict[int, RestingHands] = {}  # per user, in Nuitrack mode
+
+    def _resting(self, user: int) -> RestingHands:
+        if user not in self._sides:
+            rules, o = self.options.gestures, self.options
+            self._sides[user] = RestingHands(rules.rest_below_torso_mm, rules.rest_in_front_of_torso_mm,
+                                             o.hands.shoulder_half_width_mm, o.lost_timeout_s, user)
+        return self._sides[user]
 
     def update(self) -> Frame | None:
         depth = self.source.read()
@@ -99,28 +80,39 @@ class EngineBackend(Backend):
             return None
         if self.geometry is not None:
             depth = to_geometry(depth, *self.geometry)
-        result, gestures = self.engine.step(depth)
+        result = self.engine.step(depth)
         hands: tuple[Hand, ...] = ()
         if self.tracking_hands:
-            hands = self._reported_hands(result.hands, gestures)
-            if self._sides is not None:
-                hands = self._sides.present(depth.timestamp, hands, result.body, depth.mirrored)
+            hands = self._reported_hands(result.hands, result.gestures)
+            if self.both_hands:
+                hands = self._both_hands(result, hands, depth.timestamp, depth.mirrored)
         self._seq += 1
         return Frame(self._seq, depth.capture_time, depth, hands,
-                     self._named(gestures) if self.detecting_gestures else (), self.name,
-                     make_user_mask=lambda: result.full_mask(depth))
+                     self._named(result.gestures) if self.detecting_gestures else (), self.name,
+                     users=result.users, make_user_labels=lambda: result.user_labels(depth))
+
+    def _both_hands(self, result: EngineFrame, hands: tuple[Hand, ...], t: float, mirrored: bool) -> tuple[Hand, ...]:
+        """Nuitrack mode: each user's left and right hand while the user is in view."""
+        out: list[Hand] = []
+        for user in sorted(set(self._sides) | set(result.results)):
+            tracked = result.results.get(user)
+            body = tracked.body if tracked is not None else {}
+            out += self._resting(user).present(t, tuple(h for h in hands if h.user_id == user), body, mirrored)
+            if tracked is None and not self._sides[user].reporting:
+                del self._sides[user]
+        return tuple(out)
 
     def finish(self) -> tuple[Gesture, ...]:
         """The source ended: the recogniser's swipes still waiting to be confirmed complete."""
         if not self.detecting_gestures:
             return ()
-        return self._named(self.engine.recognizer.finish())
+        return self._named(self.engine.finish())
 
-    def _named(self, gestures: list[Gesture]) -> tuple[Gesture, ...]:
+    def _named(self, gestures) -> tuple[Gesture, ...]:
         """The gestures, naming their hands as this mode's hands are named (Nuitrack: by side)."""
-        if self._sides is None:
+        if not self.both_hands:
             return tuple(gestures)
-        return tuple(self._sides.gesture(g) for g in gestures)
+        return tuple(self._resting(g.user_id).gesture(g) for g in gestures)
 
     def _reported_hands(self, hands: tuple[Hand, ...], gestures: list[Gesture]) -> tuple[Hand, ...]:
         """All hands, or (focus mode) only those that made a focus gesture, NEW from that frame on."""

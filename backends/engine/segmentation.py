@@ -2,10 +2,12 @@
 
 On a coarse grid (about 160 columns whatever the sensor's resolution) the depth becomes world
 millimetres; a floor plane found by RANSAC among near-horizontal planes is removed; depth jumps
-cut the image into surfaces; the nearest person-sized surface (judged in mm and m^2, not pixels)
-is the user, and small surfaces within arm's reach in front of it (a forearm pointed at the camera
-is cut off from the body by its own depth edge) join it. Clips whose background is already removed
-are simply the easy case: no floor is found and the user is the only surface.
+cut the image into surfaces; every person-sized surface (judged in mm and m^2, not pixels) between
+`min_distance_mm` and `max_distance_mm` is a person (up to `max_people`, nearest first), and each
+small surface within arm's reach in front of a person (a forearm pointed at the camera is cut off
+from the body by its own depth edge) joins the nearest such person. Clips whose background is
+already removed are simply the easy case: no floor is found and the user is the only surface.
+Who is who from frame to frame is people.py's job; the segmenter only finds them.
 """
 from __future__ import annotations
 
@@ -18,6 +20,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from host import DepthFrame
 
 ONE_CELL_GAP = cv2.getStructuringElement(cv2.MORPH_CROSS, (3, 3))  # closing with it bridges a missing cell
+RING = np.ones((5, 5), np.uint8)  # two cells around a surface: past the cut band at its edge
 
 
 class SegmentationOptions(BaseModel):
@@ -40,6 +43,12 @@ class SegmentationOptions(BaseModel):
     reach_mm: float = Field(1000, gt=0, description="a detached surface this close in front of the user is part of them")
     rim_depth_mm: float = Field(700, gt=0, description="cut cells next to the user within this depth of them are theirs")
     min_part_area_m2: float = Field(0.002, gt=0, description="smaller detached surfaces are noise")
+    max_enclosed: float = Field(0.5, ge=0, le=1, description=(
+        "a surface whose surroundings are more than this share nearer surfaces is background seen "
+        "between them (a piece of wall between a raised arm and the head), not a person"))
+    max_people: int = Field(4, ge=1, le=15, description="at most this many people, the nearest")
+    min_distance_mm: float = Field(800, ge=0, description="a person's mean depth is at least this")
+    max_distance_mm: float = Field(4500, gt=0, description="and at most this (farther, the depth is too coarse)")
 
 
 @dataclass(frozen=True)
@@ -60,14 +69,25 @@ class Grid:
 
 @dataclass(frozen=True)
 class Segment:
-    """The user found in one frame."""
+    """One person found in one frame."""
 
     mask: np.ndarray  # (h, w) bool on the grid
     grid: Grid
 
 
+@dataclass(frozen=True, eq=False)
+class Person:
+    """One person's segment with what identifies them across frames (mm, camera coordinates)."""
+
+    segment: Segment
+    centre: np.ndarray  # (x, y, z): mean of the person's main surface
+    top_mm: float  # height of the highest cell (the crown, or a raised hand)
+    cells: int  # how many grid cells the person covers
+
+
 class Segmenter:
-    """Finds the user in each frame; remembers only the floor plane and the last user (to stay on them)."""
+    """Finds the people in each frame; remembers only the floor plane and the last nearest person
+    (`segment()` stays on them)."""
 
     def __init__(self, options: SegmentationOptions) -> None:
         self.options = options
@@ -96,16 +116,29 @@ class Segmenter:
         return self._rays[key]
 
     def segment(self, depth: DepthFrame) -> Segment | None:
+        """The one user: the nearest person, or the one seen last while they stay in view."""
+        people = self.people(depth, stay=True)
+        return people[0].segment if people else None
+
+    def people(self, depth: DepthFrame, stay: bool = False) -> list[Person]:
+        """Every person in view, nearest first (`stay`: the person seen first last time, first
+        again while they are there). All share one grid: segmenting is done once per frame."""
         g = self.grid(depth)
         valid = g.z > 0
         if self.options.floor:
             valid &= ~self._floor_mask(g, valid)
         labels, stats = self._surfaces(g, valid)
-        mask = self._pick_user(g, labels, stats)
-        if mask is not None:
-            mask = self._with_rim(g, mask, valid & (labels == 0))
-        self._last_mask = mask
-        return Segment(mask, g) if mask is not None else None
+        found = self._pick_people(g, labels, stats, stay)
+        cut = valid & (labels == 0)
+        out = []
+        for mask, centre in found:
+            mask = self._with_rim(g, mask, cut)
+            cut &= ~mask  # a rim cell is one person's
+            rows = np.flatnonzero(mask.any(axis=1))
+            top = float(np.max(g.y[rows[0]][mask[rows[0]]]))
+            out.append(Person(Segment(mask, g), centre, top, int(mask.sum())))
+        self._last_mask = out[0].segment.mask if out else None
+        return out
 
     # -- floor -------------------------------------------------------------------------------
     def _floor_mask(self, g: Grid, valid: np.ndarray) -> np.ndarray:
@@ -184,11 +217,27 @@ class Segmenter:
         depth = float(np.median(g.z[mask]))
         return mask | (near & cut & (np.abs(g.z - depth) < self.options.rim_depth_mm))
 
-    def _pick_user(self, g: Grid, labels: np.ndarray, stats: np.ndarray) -> np.ndarray | None:
+    def _enclosed(self, g: Grid, labels: np.ndarray, sized: np.ndarray, box: np.ndarray, k: int,
+                  depth: float) -> float:
+        """The share of the surface cells around surface `k` (two cells out, past the cut band at
+        its edge) that belong to nearer person-sized surfaces: a person stands in front of what
+        surrounds them (their own detached forearm aside)."""
+        x, y, w, h = (int(v) for v in box[:4])
+        y0, x0 = max(0, y - 2), max(0, x - 2)
+        window = labels[y0:y + h + 2, x0:x + w + 2]
+        mask = window == k
+        ring = cv2.dilate(mask.view(np.uint8), RING).view(bool) & ~mask & (window > 0)
+        z = g.z[y0:y + h + 2, x0:x + w + 2]
+        nearer = ring & sized[window] & (z < depth - self.options.edge_mm - self.options.edge_ratio * depth)
+        return float(nearer.sum()) / max(1, int(ring.sum()))
+
+    def _pick_people(self, g: Grid, labels: np.ndarray, stats: np.ndarray,
+                     stay: bool) -> list[tuple[np.ndarray, np.ndarray]]:
+        """(mask, centre of the main surface) per person, nearest first."""
         o = self.options
         count = len(stats)
         if count <= 1:
-            return None
+            return []
         flat = labels.ravel()
         area = np.bincount(flat, weights=g.pixel_area_mm2.ravel(), minlength=count)
         area[0] = 0
@@ -199,20 +248,31 @@ class Segmenter:
         ext_w = stats[:, cv2.CC_STAT_WIDTH] * g.cell_x * mean[2]  # bounding box in mm at the mean depth
         ext_h = stats[:, cv2.CC_STAT_HEIGHT] * g.cell_y * mean[2]
         person = ((area >= o.min_user_area_m2 * 1e6) & (ext_h >= o.min_user_height_mm)
-                  & (ext_w <= o.max_user_width_mm) & (spread <= o.max_user_depth_spread_mm))
+                  & (ext_w <= o.max_user_width_mm) & (spread <= o.max_user_depth_spread_mm)
+                  & (mean[2] >= o.min_distance_mm) & (mean[2] <= o.max_distance_mm))
         person[0] = False
         if not person.any():
-            return None
+            return []
+        sized = person.copy()
+        for k in np.flatnonzero(sized):
+            person[k] = self._enclosed(g, labels, sized, stats[k], k, mean[2][k]) <= o.max_enclosed
+        if not person.any():
+            return []
         rank = mean[2].copy()
-        if self._last_mask is not None and self._last_mask.shape == labels.shape:
+        if stay and self._last_mask is not None and self._last_mask.shape == labels.shape:
             overlap = np.bincount(flat[self._last_mask.ravel()], minlength=count) / n
             rank -= 2000.0 * (overlap > 0.3)  # stay on the same person while they are there
         rank[~person] = np.inf
-        user = int(np.argmin(rank))
-        centre = np.array([m[user] for m in mean])
-        offsets = np.stack(mean, axis=1) - centre
-        parts = ((area >= o.min_part_area_m2 * 1e6) & ~person
-                 & (np.linalg.norm(offsets, axis=1) <= o.reach_mm) & (offsets[:, 2] < 150))
-        parts[0] = False
-        parts[user] = True
-        return parts[labels]
+        people = np.argsort(rank)[:min(o.max_people, int(person.sum()))]
+        centres = np.stack(mean, axis=1)
+        # Detached parts: within reach of a person and not behind them; each joins the nearest.
+        offsets = centres[:, None, :] - centres[None, people, :]  # (surface, person, xyz)
+        distance = np.linalg.norm(offsets, axis=2)
+        within = (distance <= o.reach_mm) & (offsets[:, :, 2] < 150)
+        part = (area >= o.min_part_area_m2 * 1e6) & ~person & within.any(axis=1)
+        part[0] = False
+        owner = np.full(count, -1)
+        owner[part] = np.argmin(np.where(within, distance, np.inf), axis=1)[part]
+        owner[people] = np.arange(len(people))
+        owned = owner[labels]
+        return [(owned == k, centres[p]) for k, p in enumerate(people)]

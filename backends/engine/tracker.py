@@ -13,14 +13,15 @@ not a new hand.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from itertools import permutations
+from itertools import count, permutations
+from typing import Iterator
 
 import cv2
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.hands import Candidate, HandDetector, HandOptions
-from backends.engine.segmentation import SegmentationOptions, Segmenter
+from backends.engine.segmentation import Segment, SegmentationOptions, Segmenter
 from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
 from backends.engine.trunk import BodyEstimator, BodyOptions
 from host import DepthFrame, Hand, HandState, Side, Vec3
@@ -98,24 +99,28 @@ def _vec(a: np.ndarray) -> Vec3:
 
 
 class HandTracker:
-    def __init__(self, options: TrackerOptions | None = None) -> None:
+    def __init__(self, options: TrackerOptions | None = None, ids: Iterator[int] | None = None) -> None:
+        """`ids`: where hand ids come from (the engine's users share one count: ids stay unique)."""
         self.options = options or TrackerOptions()
         self.segmenter = Segmenter(self.options.segmentation)
         self.body_estimator = BodyEstimator(self.options.body, self.options.body_smoothing)
         self.detector = HandDetector(self.options.hands)
         self._tracks: list[_Track] = []
-        self._next_id = 1
+        self._ids = ids if ids is not None else count(1)
 
     def process(self, depth: DepthFrame) -> TrackResult:
-        t = depth.timestamp
-        seg = self.segmenter.segment(depth)
+        """One frame of the one user (the nearest person, stayed on while in view)."""
+        return self.track(self.segmenter.segment(depth), depth.timestamp, depth.mirrored)
+
+    def track(self, seg: Segment | None, t: float, mirrored: bool) -> TrackResult:
+        """One user's frame from their segment (None: not seen in this frame)."""
         body = self.body_estimator.estimate(seg, t) if seg is not None else None
         if body is None:
             self.body_estimator.reset()
-            hands = self._update_tracks(t, [], None, depth.mirrored)
+            hands = self._update_tracks(t, [], None, mirrored)
             return TrackResult(hands, {})
         candidates = self.detector.detect(seg, body)
-        hands = self._update_tracks(t, candidates, body.torso, depth.mirrored)
+        hands = self._update_tracks(t, candidates, body.torso, mirrored)
         points = {"torso": _vec(body.torso), "head": _vec(body.head)}
         seen = frozenset(track.id for track in self._tracks if track.seen == t)
         return TrackResult(hands, points, seen, seg.mask, seg.grid.z)
@@ -166,6 +171,10 @@ class HandTracker:
             out.append(self._hand(track, state, track.confidence))
         return tuple(sorted(out, key=lambda h: h.id))
 
+    def drop_all(self) -> tuple[Hand, ...]:
+        """The user is gone: every hand ends now (LOST where last seen, those ever reported)."""
+        return tuple(h for track in list(self._tracks) for h in self._drop(track))
+
     def _drop(self, track: _Track) -> list[Hand]:
         """End a track: LOST where it was last seen, if it was ever reported."""
         self._tracks.remove(track)
@@ -200,11 +209,10 @@ class HandTracker:
         return best
 
     def _birth(self, t: float, cand: Candidate, side: Side) -> _Track:
-        track = _Track(self._next_id, side, OneEuroFilter(self.options.smoothing), cand.position, t, t,
+        track = _Track(next(self._ids), side, OneEuroFilter(self.options.smoothing), cand.position, t, t,
                        cand.at_border, cand.confidence, reach=cand.reach)
         track.position = track.filter(t, cand.position)
         track.confirmed = self.options.confirm_s <= 0 or cand.confidence >= self.options.strong_confidence
-        self._next_id += 1
         return track
 
     def _other_arm(self, t: float, track: _Track, cand: Candidate, torso: np.ndarray | None, mirrored: bool) -> bool:

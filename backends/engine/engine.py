@@ -1,0 +1,151 @@
+"""The open engine for several people: segment once, tell people apart, then one pipeline per user.
+
+Per frame: the segmenter finds every person on one shared grid (segmentation.py), the people
+tracker gives each a stable id (people.py), and each user's own HandTracker (body frame, hand
+tracks) and GestureRecognizer run on that user's segment alone, so two performers' strokes never
+mix. Hand ids come from one count shared by all users (unique in a frame); with one performer the
+hands, ids and gestures are those of the single-user tracker. A user hidden for now (behind
+another) keeps their pipeline, whose hands time out as hands do; a LOST user's pipeline ends.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from itertools import count
+from typing import Mapping
+
+import numpy as np
+
+from pydantic import Field
+
+from backends.engine.people import PeopleOptions, PeopleTracker, Tracked
+from backends.engine.recognizer import GestureRecognizer
+from backends.engine.rules import GestureRules
+from backends.engine.segmentation import Segmenter
+from backends.engine.tracker import HandTracker, TrackerOptions, TrackResult
+from host import DepthFrame, Gesture, GestureType, Hand, HandState, Joint, User
+
+
+class EngineOptions(TrackerOptions):
+    """The tracker's options (mm, s) plus `people` (telling people apart) and `gestures`: overrides
+    of any GestureRules threshold."""
+
+    people: PeopleOptions = Field(default_factory=PeopleOptions, description="how people keep their ids (mm, s)")
+    gestures: GestureRules = Field(default_factory=GestureRules,
+                                   description="gesture thresholds (mm, s), e.g. {swipe_min_travel_mm = 300}")
+
+
+@dataclass
+class _Pipeline:
+    """One user's own tracker and recogniser, and what was last reported of them."""
+
+    tracker: HandTracker
+    recognizer: GestureRecognizer
+    user: User | None = None
+    seen: float = 0.0
+
+
+@dataclass(frozen=True)
+class EngineFrame:
+    """One frame of the engine: users, every user's hands (user_id set), gestures, per-user results."""
+
+    users: tuple[User, ...]
+    hands: tuple[Hand, ...]
+    results: Mapping[int, TrackResult]  # user id -> that user's tracking (seen or hidden users)
+    seen: frozenset[int] = frozenset()  # ids of the hands found in this frame
+    gestures: tuple[Gesture, ...] = ()
+    depth_size: tuple[int, int] = (0, 0)
+    _labels: list = field(default_factory=list, repr=False)  # (user id, TrackResult) seen now, far first
+
+    def user_labels(self, depth: DepthFrame) -> np.ndarray:
+        """uint8 (H, W) at the depth image's size: 0 nobody, else the id of the user seen there
+        (a nearer user drawn over a farther one)."""
+        labels = np.zeros((depth.height, depth.width), np.uint8)
+        for uid, result in self._labels:
+            mask = result.full_mask(depth)
+            if mask is not None:
+                labels[mask] = uid
+        return labels
+
+
+class Engine:
+    """Segmenter, people tracker and a tracker + recogniser per user for one stream of depth frames."""
+
+    def __init__(self, options: EngineOptions, dictionary: Mapping[str, GestureType] | None) -> None:
+        self.options, self.dictionary = options, dictionary
+        self.segmenter = Segmenter(options.segmentation)
+        self.people = PeopleTracker(options.people)
+        self.pipelines: dict[int, _Pipeline] = {}
+        self._hand_ids = count(1)
+        self.last: EngineFrame | None = None
+
+    def step(self, depth: DepthFrame) -> EngineFrame:
+        """Track, then each user's recogniser on that user's hands found in this frame."""
+        frame, ended = self.track(depth)
+        gestures: list[Gesture] = []
+        t, mirrored = depth.timestamp, depth.mirrored
+        for uid, pipeline in sorted(self.pipelines.items()) + ended:
+            result = frame.results.get(uid)
+            if result is None:  # LOST now: the recogniser judges what is pending, as at a lost hand
+                hands, body = [h for h in frame.hands if h.user_id == uid], {}
+            else:
+                # A hand held where it was last seen (a dropout of a frame or two) is no measurement:
+                # its standing still would read as a stop. The recogniser gets the hands found now.
+                hands = [h for h in result.hands if h.id in result.seen or not h.in_view]
+                body = result.body
+            gestures += [replace(g, user_id=uid) for g in pipeline.recognizer.update(t, hands, body, mirrored)]
+        frame = replace(frame, gestures=tuple(gestures))
+        self.last = frame
+        return frame
+
+    def finish(self) -> list[Gesture]:
+        """The source ended: each user's recogniser's pending swipes complete (GestureRecognizer.finish)."""
+        return [replace(g, user_id=uid) for uid, p in sorted(self.pipelines.items()) for g in p.recognizer.finish()]
+
+    def track(self, depth: DepthFrame) -> tuple[EngineFrame, list[tuple[int, _Pipeline]]]:
+        """Tracking only (what the bench times): the frame, and the pipelines of users LOST now."""
+        t, mirrored = depth.timestamp, depth.mirrored
+        people = self.people.update(t, self.segmenter.people(depth))
+        users, hands, results, seen, labels = [], [], {}, set(), []
+        ended: list[tuple[int, _Pipeline]] = []
+        for person in people:
+            pipeline = self.pipelines.get(person.id)
+            if pipeline is None:
+                pipeline = self.pipelines[person.id] = self._pipeline()
+            if person.state is HandState.LOST:
+                ended.append((person.id, self.pipelines.pop(person.id)))
+                hands += [replace(h, user_id=person.id) for h in pipeline.tracker.drop_all()]
+                if pipeline.user is not None:
+                    users.append(replace(pipeline.user, state=HandState.LOST))
+                continue
+            segment = person.person.segment if person.person is not None else None
+            result = pipeline.tracker.track(segment, t, mirrored)
+            results[person.id] = result
+            hands += [replace(h, user_id=person.id) for h in result.hands]
+            seen |= result.seen
+            user = self._user(person, result, pipeline, t)
+            if user is not None:
+                users.append(user)
+            if person.person is not None:
+                labels.append((person.centre[2], person.id, result))
+        labels = [(uid, result) for _, uid, result in sorted(labels, key=lambda x: -x[0])]
+        frame = EngineFrame(tuple(users), tuple(sorted(hands, key=lambda h: h.id)), results, frozenset(seen),
+                            depth_size=(depth.width, depth.height), _labels=labels)
+        return frame, ended
+
+    def _pipeline(self) -> _Pipeline:
+        return _Pipeline(HandTracker(self.options, self._hand_ids),
+                         GestureRecognizer(self.options.gestures, self.dictionary))
+
+    def _user(self, person: Tracked, result: TrackResult, pipeline: _Pipeline, t: float) -> User | None:
+        """The user as reported now: from this frame's body when seen; hidden for up to the hands'
+        `hold_s`, where last seen; longer, left out until seen again or LOST."""
+        if person.person is None or not result.body:
+            if pipeline.user is None or t - pipeline.seen > self.options.hold_s:
+                return None
+            return replace(pipeline.user, state=HandState.TRACKING)
+        g, mask = person.person.segment.grid, person.person.segment.mask
+        mass = (float(g.x[mask].mean()), float(g.y[mask].mean()), float(g.z[mask].mean()))
+        joints = {name: Joint(p) for name, p in result.body.items()}
+        state = HandState.NEW if pipeline.user is None else HandState.TRACKING
+        pipeline.user, pipeline.seen = User(person.id, state, joints, mass), t
+        return pipeline.user
