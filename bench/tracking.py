@@ -1,7 +1,7 @@
 """Hand tracking: milliseconds per frame on one core, and hand position error on real recordings.
 
-(a) speed: each engine backend's per-frame work (geometry conversion + HandTracker.process; the
-    gesture recogniser is timed by bench.gestures) on the synthetic performer's default show,
+(a) speed: each engine backend's per-frame work (geometry conversion + Engine.track: people,
+    bodies and hands; the gesture recogniser is timed by bench.gestures) on the synthetic performer's default show,
     rendered beforehand at 320x240 and 640x480 (rendering is not timed), pinned to one core.
 (b) accuracy: on the UTD-MHAD dev clips (utd-mhad-dev in --data), in the frames where a
     skeleton hand is extended (score.py's rule: 200 mm in front of the spine, 350 mm beside it, or
@@ -61,13 +61,13 @@ def synthetic_frames(size: tuple[int, int], seconds: float = 12.0):
 
 
 def time_backend(cls: type[EngineBackend], depth_frames) -> list[float]:
-    tracker = cls().build_engine().tracker
+    engine = cls().build_engine()
     times = []
     for frame in depth_frames:
         start = time.perf_counter()
         if cls.geometry is not None:
             frame = to_geometry(frame, *cls.geometry)
-        tracker.process(frame)
+        engine.track(frame)
         times.append((time.perf_counter() - start) * 1000)
     return times[5:]  # the first frames build per-geometry caches
 
@@ -111,12 +111,12 @@ def hand_errors(cls: type[EngineBackend], files: list[str], lead: float) -> Hand
     out = HandErrors()
     for path in files:
         clip = Clip(path)
-        tracker = cls().build_engine().tracker
+        engine = cls().build_engine()
         for i in range(len(clip)):
             frame = clip.frame(i, i)
             if cls.geometry is not None:
                 frame = to_geometry(frame, *cls.geometry)
-            result = tracker.process(frame)
+            result = engine.track(frame)
             reported = [np.array(h.position) for h in result.hands if h.state.value != "lost"]
             back = max(i - lead, 0.0)
             for kind, hands, body in (

@@ -53,7 +53,6 @@ class EngineFrame:
     results: Mapping[int, TrackResult]  # user id -> that user's tracking (seen or hidden users)
     seen: frozenset[int] = frozenset()  # ids of the hands found in this frame
     gestures: tuple[Gesture, ...] = ()
-    depth_size: tuple[int, int] = (0, 0)
     _labels: list = field(default_factory=list, repr=False)  # (user id, TrackResult) seen now, far first
 
     def user_labels(self, depth: DepthFrame) -> np.ndarray:
@@ -76,11 +75,12 @@ class Engine:
         self.people = PeopleTracker(options.people)
         self.pipelines: dict[int, _Pipeline] = {}
         self._hand_ids = count(1)
+        self._ended: list[tuple[int, _Pipeline]] = []
         self.last: EngineFrame | None = None
 
     def step(self, depth: DepthFrame) -> EngineFrame:
         """Track, then each user's recogniser on that user's hands found in this frame."""
-        frame, ended = self.track(depth)
+        frame, ended = self.track(depth), self._ended
         gestures: list[Gesture] = []
         t, mirrored = depth.timestamp, depth.mirrored
         for uid, pipeline in sorted(self.pipelines.items()) + ended:
@@ -101,12 +101,13 @@ class Engine:
         """The source ended: each user's recogniser's pending swipes complete (GestureRecognizer.finish)."""
         return [replace(g, user_id=uid) for uid, p in sorted(self.pipelines.items()) for g in p.recognizer.finish()]
 
-    def track(self, depth: DepthFrame) -> tuple[EngineFrame, list[tuple[int, _Pipeline]]]:
-        """Tracking only (what the bench times): the frame, and the pipelines of users LOST now."""
+    def track(self, depth: DepthFrame) -> EngineFrame:
+        """Tracking only (what the bench times); the pipelines of users LOST now wait in `_ended`
+        for their recognisers' last word."""
         t, mirrored = depth.timestamp, depth.mirrored
         people = self.people.update(t, self.segmenter.people(depth))
         users, hands, results, seen, labels = [], [], {}, set(), []
-        ended: list[tuple[int, _Pipeline]] = []
+        ended = self._ended = []
         for person in people:
             pipeline = self.pipelines.get(person.id)
             if pipeline is None:
@@ -128,9 +129,8 @@ class Engine:
             if person.person is not None:
                 labels.append((person.centre[2], person.id, result))
         labels = [(uid, result) for _, uid, result in sorted(labels, key=lambda x: -x[0])]
-        frame = EngineFrame(tuple(users), tuple(sorted(hands, key=lambda h: h.id)), results, frozenset(seen),
-                            depth_size=(depth.width, depth.height), _labels=labels)
-        return frame, ended
+        return EngineFrame(tuple(users), tuple(sorted(hands, key=lambda h: h.id)), results, frozenset(seen),
+                           _labels=labels)
 
     def _pipeline(self) -> _Pipeline:
         return _Pipeline(HandTracker(self.options, self._hand_ids),

@@ -43,6 +43,7 @@ class SegmentationOptions(BaseModel):
     reach_mm: float = Field(1000, gt=0, description="a detached surface this close in front of the user is part of them")
     rim_depth_mm: float = Field(700, gt=0, description="cut cells next to the user within this depth of them are theirs")
     min_part_area_m2: float = Field(0.002, gt=0, description="smaller detached surfaces are noise")
+    max_part_area_m2: float = Field(0.3, gt=0, description="larger ones are no arm (a wall, the floor)")
     max_enclosed: float = Field(0.5, ge=0, le=1, description=(
         "a surface whose surroundings are more than this share nearer surfaces is background seen "
         "between them (a piece of wall between a raised arm and the head), not a person"))
@@ -269,7 +270,8 @@ class Segmenter:
         offsets = centres[:, None, :] - centres[None, people, :]  # (surface, person, xyz)
         distance = np.linalg.norm(offsets, axis=2)
         within = (distance <= o.reach_mm) & (offsets[:, :, 2] < 150)
-        part = (area >= o.min_part_area_m2 * 1e6) & ~person & within.any(axis=1)
+        part = ((area >= o.min_part_area_m2 * 1e6) & (area <= o.max_part_area_m2 * 1e6) & ~person
+                & within.any(axis=1))
         part[0] = False
         owner = np.full(count, -1)
         owner[part] = np.argmin(np.where(within, distance, np.inf), axis=1)[part]
