@@ -12,7 +12,7 @@ depth, joins that person.
 
 Lifecycle, as hands: NEW on the first frame, TRACKING, then LOST once after `lost_timeout_s`
 unseen. A person who comes back within `return_s` of being lost, about where they were lost and
-about as tall, gets their id back. Ids are the smallest free ones (NiTE's way), so they fit the
+no taller than they were, gets their id back. Ids are the smallest free ones (NiTE's way), so they fit the
 uint8 label image.
 """
 from __future__ import annotations
@@ -44,7 +44,9 @@ class PeopleOptions(BaseModel):
     velocity_smoothing: float = Field(0.3, gt=0, le=1, description="weight of the newest velocity measurement")
     return_s: float = Field(5.0, ge=0, description="a person lost this recently who comes back ...")
     return_mm: float = Field(800, ge=0, description="... this close to where they were lost ...")
-    return_height_mm: float = Field(200, ge=0, description="... and about as tall (this much) gets their id back")
+    return_height_mm: float = Field(200, ge=0, description=(
+        "... and no taller than they were seen (by this much) gets their id back (shorter is fine: "
+        "someone coming back into view shows only part of themselves at first)"))
 
 
 @dataclass(eq=False)
@@ -56,6 +58,7 @@ class _Track:
     seen: float
     mask: np.ndarray | None = None  # last frame's mask on the grid
     reported: bool = False
+    tallest_mm: float = -np.inf  # the highest top seen: how tall they are, at least
 
     def predicted(self, t: float, max_gap_s: float) -> np.ndarray:
         return self.centre + self.velocity * min(t - self.seen, max_gap_s)
@@ -74,9 +77,9 @@ class Tracked:
 @dataclass(frozen=True)
 class _Gone:
     id: int
-    centre: np.ndarray
-    top_mm: float
-    t: float
+    centre: np.ndarray  # where last seen
+    tallest_mm: float
+    t: float  # when lost
 
 
 class PeopleTracker:
@@ -112,7 +115,7 @@ class PeopleTracker:
             if t - track.seen > o.lost_timeout_s:
                 self._tracks.remove(track)
                 if track.reported:
-                    self._gone.append(_Gone(track.id, track.centre, track.top_mm, t))
+                    self._gone.append(_Gone(track.id, track.centre, track.tallest_mm, t))
                     out.append(Tracked(track.id, HandState.LOST, None, _vec(track.centre)))
             elif track.reported:
                 out.append(Tracked(track.id, HandState.TRACKING, None, _vec(track.predicted(t, o.match_max_gap_s))))
@@ -141,7 +144,7 @@ class PeopleTracker:
     def _match(self, t: float, people: list[Person]) -> dict[_Track, Person]:
         """The assignment of people to tracks with the smallest total cost (at most 4 x 4 here,
         so every assignment is tried); an unmatched pair costs more than any match."""
-        tracks = self._tracks
+        tracks = [tr for tr in self._tracks if t - tr.seen <= self.options.lost_timeout_s]
         if not tracks or not people:
             return {}
         allowed = {}
@@ -183,19 +186,20 @@ class PeopleTracker:
             if speed > self.options.max_speed_mm_s:
                 track.velocity *= self.options.max_speed_mm_s / speed
         track.centre, track.top_mm, track.seen = person.centre.copy(), person.top_mm, t
+        track.tallest_mm = max(track.tallest_mm, person.top_mm)
         track.mask = person.segment.mask
 
     def _birth(self, t: float, person: Person) -> _Track:
         track = _Track(self._returning(person) or self._free_id(), person.centre.copy(), np.zeros(3),
-                       person.top_mm, t, person.segment.mask)
+                       person.top_mm, t, person.segment.mask, tallest_mm=person.top_mm)
         self._tracks.append(track)
         return track
 
     def _returning(self, person: Person) -> int | None:
-        """The id of a person lost recently about here and about this tall, if any (the nearest)."""
+        """The id of a person lost recently about here and not taller, if any (the nearest)."""
         o = self.options
         close = [(float(np.hypot(*(person.centre - g.centre)[[0, 2]])), g) for g in self._gone
-                 if abs(person.top_mm - g.top_mm) <= o.return_height_mm]
+                 if person.top_mm <= g.tallest_mm + o.return_height_mm]
         close = [(d, g) for d, g in close if d <= o.return_mm]
         if not close:
             return None

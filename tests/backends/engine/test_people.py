@@ -140,7 +140,7 @@ def test_a_person_back_soon_at_the_same_place_keeps_the_id():
     tracker = PeopleTracker(PeopleOptions(lost_timeout_s=0.5, return_s=5.0))
     play(tracker, [(0.0, [person(-1000), person(1000, cols=slice(10, 12))]),
                    (0.1, [person(-1000), person(1000, cols=slice(10, 12))])])
-    lost = play(tracker, [(0.2, [person(1000, cols=slice(10, 12))]), (0.8, [person(1000, cols=slice(10, 12))])])
+    lost = play(tracker, [(t, [person(1000, cols=slice(10, 12))]) for t in (0.2, 0.5, 0.8)])
     assert (1, HandState.LOST) in lost[-1]
     # someone new elsewhere gets a new id (1 waits for the one who left), ...
     newcomer = play(tracker, [(1.0, [person(1000, cols=slice(10, 12)), person(0, z=4000, cols=slice(5, 7))])])
@@ -154,9 +154,15 @@ def test_a_person_back_soon_at_the_same_place_keeps_the_id():
 def test_a_person_back_late_or_elsewhere_is_someone_new():
     tracker = PeopleTracker(PeopleOptions(lost_timeout_s=0.5, return_s=2.0))
     play(tracker, [(0.0, [person(-1000), person(1000)]), (0.1, [person(-1000), person(1000)])])
-    play(tracker, [(0.2, [person(1000)]), (0.8, [person(1000)])])
+    play(tracker, [(t, [person(1000)]) for t in (0.2, 0.5, 0.8)])
     elsewhere = play(tracker, [(1.0, [person(1000), person(-1000, z=3500)])])
     assert (3, HandState.NEW) in elsewhere[0]  # 1 m deeper than where 1 left: not them
+    taller = play(tracker, [(1.1, [person(1000), person(-1000, top=900)])])
+    assert (4, HandState.NEW) in taller[0]  # where 1 left, but 300 mm taller: someone else
+    late = play(tracker, [(t, [person(1000)]) for t in np.arange(1.4, 3.4, 0.3)] + [(3.5, [person(1000), person(-1000)])])
+    assert [(3, HandState.LOST), (4, HandState.LOST)] in [[u for u in frame if u[0] in (3, 4)] for frame in late]
+    # at -1000 again: 1 (lost 2.7 s ago) is forgotten; 4 (lost 1.9 s ago, stood there last) is back
+    assert late[-1] == [(2, HandState.TRACKING), (4, HandState.NEW)]
 
 
 def test_two_people_crossing_one_behind_the_other_keep_their_ids():
