@@ -21,7 +21,7 @@ import numpy as np
 
 from pydantic import Field
 
-from backends.engine.people import PeopleOptions, PeopleTracker, Tracked
+from backends.engine.people import PeopleOptions, PeopleTracker
 from backends.engine.recognizer import GestureRecognizer
 from backends.engine.rules import GestureRules
 from backends.engine.segmentation import Grid, Segment, Segmenter
@@ -123,13 +123,14 @@ class Engine:
                     users.append(replace(pipeline.user, state=HandState.LOST))
                 continue
             segment = person.person.segment if person.person is not None else None
-            result = pipeline.tracker.track(self._box(segment, person.centre[2]), t, mirrored)
+            box = self._box(segment, person.centre[2])
+            result = pipeline.tracker.track(box, t, mirrored)
             if segment is not None:
                 result = replace(result, mask=segment.mask, grid_z=segment.grid.z)
             results[person.id] = result
             hands += [replace(h, user_id=person.id) for h in result.hands]
             seen |= result.seen
-            user = self._user(person, result, pipeline, t)
+            user = self._user(person.id, box, result, pipeline, t)
             if user is not None:
                 users.append(user)
             if person.person is not None:
@@ -159,16 +160,19 @@ class Engine:
         return _Pipeline(HandTracker(self.options, self._hand_ids),
                          GestureRecognizer(self.options.gestures, self.dictionary))
 
-    def _user(self, person: Tracked, result: TrackResult, pipeline: _Pipeline, t: float) -> User | None:
-        """The user as reported now: from this frame's body when seen; hidden for up to the hands'
-        `hold_s`, where last seen; longer, left out until seen again or LOST."""
-        if person.person is None or not result.body:
+    def _user(self, uid: int, segment: Segment | None, result: TrackResult, pipeline: _Pipeline,
+              t: float) -> User | None:
+        """The user as reported now: from this frame's body when seen (the skeleton's joints and
+        centre of mass when it has them, else the body frame's torso and head and the segment's
+        mean); hidden for up to the hands' `hold_s`, where last seen; longer, left out until seen
+        again or LOST."""
+        if segment is None or not result.body:
             if pipeline.user is None or t - pipeline.seen > self.options.hold_s:
                 return None
             return replace(pipeline.user, state=HandState.TRACKING)
-        g, mask = person.person.segment.grid, person.person.segment.mask
-        mass = (float(g.x[mask].mean()), float(g.y[mask].mean()), float(g.z[mask].mean()))
-        joints = {name: Joint(p) for name, p in result.body.items()}
+        g, mask = segment.grid, segment.mask
+        mass = result.center_of_mass or (float(g.x[mask].mean()), float(g.y[mask].mean()), float(g.z[mask].mean()))
+        joints = result.joints or {name: Joint(p) for name, p in result.body.items()}
         state = HandState.NEW if pipeline.user is None else HandState.TRACKING
-        pipeline.user, pipeline.seen = User(person.id, state, joints, mass), t
+        pipeline.user, pipeline.seen = User(uid, state, joints, mass), t
         return pipeline.user

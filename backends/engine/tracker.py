@@ -12,7 +12,7 @@ not a new hand.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from itertools import count, permutations
 from typing import Iterator
 
@@ -24,7 +24,7 @@ from backends.engine.hands import Candidate, HandDetector, HandOptions
 from backends.engine.segmentation import Segment, SegmentationOptions, Segmenter
 from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
 from backends.engine.trunk import BodyEstimator, BodyOptions
-from host import DepthFrame, Hand, HandState, Side, Vec3
+from host import DepthFrame, Hand, HandState, Joint, Side, Vec3
 
 
 class TrackerOptions(BaseModel):
@@ -67,6 +67,12 @@ class TrackResult:
     seen: frozenset[int] = frozenset()  # ids of the hands found in this frame (others are held or lost)
     mask: np.ndarray | None = None  # (h, w) bool on the internal grid; full_mask() for the image's size
     grid_z: np.ndarray | None = None  # the grid's depth (mm), to refine the mask at full resolution
+    #: the user's joints (host.JOINTS names) and centre of mass; empty/None while no user is seen
+    joints: dict[str, Joint] = field(default_factory=dict)
+    center_of_mass: Vec3 | None = None
+    #: both hands for as long as the user is in view (resting ones with extended False), one id
+    #: per side; `hands` are the tracker's extended hands, which the recogniser follows
+    user_hands: tuple[Hand, ...] = ()
 
     def full_mask(self, depth: DepthFrame, tolerance_mm: float = 250.0) -> np.ndarray | None:
         """The user's silhouette at the depth image's resolution (for silhouette effects): pixels

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from backends.engine.backend import OpenISSBackend
+from backends.engine.backend import OpenISSBackend, OpenISSNuitrackBackend
 from backends.engine.people import PeopleOptions, PeopleTracker
 from backends.engine.segmentation import Grid, Person, Segment
 from host import GestureState, HandState, Side
@@ -88,20 +88,30 @@ def test_each_users_gestures_carry_their_user_id(gesturing):
     assert {hands[g.hand_id] for g in waves} == {ids[1]} and {hands[g.hand_id] for g in raises} == {ids[2]}
 
 
-def test_the_label_image_gives_each_user_their_pixels(crossing):
-    frames = iter(crossing[:5])
+class Played:
+    """Frames already rendered, as a source gives them."""
 
-    class Played:  # the frames already rendered, as a source gives them
-        def open(self) -> None:
-            pass
+    def __init__(self, frames) -> None:
+        self.frames = iter(frames)
 
-        def read(self):
-            return next(frames, None)
+    def open(self) -> None:
+        pass
 
-    backend = OpenISSBackend(Played())
+    def read(self):
+        return next(self.frames, None)
+
+
+def last_frame(cls, depth_frames):
+    backend = cls(Played(depth_frames))
     backend.init()
-    for _ in range(5):
+    backend.start_hand_tracking()
+    for _ in depth_frames:
         frame = backend.update()
+    return frame
+
+
+def test_the_label_image_gives_each_user_their_pixels(crossing):
+    frame = last_frame(OpenISSBackend, crossing[:5])
     labels = frame.user_labels
     assert labels.dtype == np.uint8 and labels.shape == (frame.depth.height, frame.depth.width)
     ids = who_is_who(crossing[4], frame)
@@ -111,6 +121,14 @@ def test_the_label_image_gives_each_user_their_pixels(crossing):
         assert labels[int(v), int(u)] == ids[truth.id]
     assert np.array_equal(frame.user_mask, labels > 0)
     assert (labels > 0).sum() < 0.5 * labels.size  # the room is nobody
+
+
+def test_nuitrack_mode_gives_each_user_a_left_and_a_right_hand(crossing):
+    """As the Nuitrack adapter numbers them: user n's hands are 2n - 1 (left) and 2n (right)."""
+    frame = last_frame(OpenISSNuitrackBackend, crossing[:10])
+    assert sorted(u.id for u in frame.users) == [1, 2]
+    assert sorted((h.user_id, h.id, h.side) for h in frame.hands) == [
+        (1, 1, Side.LEFT), (1, 2, Side.RIGHT), (2, 3, Side.LEFT), (2, 4, Side.RIGHT)]
 
 
 # -- the people tracker alone ---------------------------------------------------------------
