@@ -33,7 +33,7 @@ class EngineOptions(TrackerOptions):
     """The tracker's options (mm, s) plus `people` (telling people apart) and `gestures`: overrides
     of any GestureRules threshold."""
 
-    people: PeopleOptions = Field(default_factory=PeopleOptions, description="how people keep their ids (mm, s)")
+    people: PeopleOptions = PeopleOptions()
     gestures: GestureRules = Field(default_factory=GestureRules,
                                    description="gesture thresholds (mm, s), e.g. {swipe_min_travel_mm = 300}")
 

@@ -4,7 +4,8 @@ The segmenter finds the people of one frame; this module matches them to the peo
 frames before. Each person is followed by the centre of their main surface (mm) with a velocity,
 so a performer hidden behind another while crossing is looked for where they were heading, and
 depth keeps two performers apart as they pass (one in front of the other). The match with the
-smallest total cost wins, within a gate that grows with the time unseen; the cost is the distance
+smallest total cost wins, within a gate that grows with the time unseen (or covering much of
+the person's last mask); the cost is the distance
 to the predicted centre (height counting half: arms move it) less a bonus for overlapping last
 frame's mask, plus the change in height (the tall and the small one). A person hidden behind
 another can show as two pieces: a piece close to a matched person's predicted place, at their
@@ -34,19 +35,25 @@ class PeopleOptions(BaseModel):
     lost_timeout_s: float = Field(1.5, ge=0, description=(
         "a person unseen this long is LOST (longer than a crossing hides the one behind)"))
     max_speed_mm_s: float = Field(2500, gt=0, description="fastest plausible walk: gates matching across frames")
-    match_slack_mm: float = Field(350, ge=0, description="matching distance allowed on top of max speed * time unseen")
+    match_slack_mm: float = Field(600, ge=0, description=(
+        "matching distance allowed on top of max speed * time unseen (the centre of what is seen of "
+        "someone jumps when an arm or the legs come into view or go out)"))
     match_max_gap_s: float = Field(0.5, gt=0, description="the gate stops growing after this long unseen")
+    same_place_overlap: float = Field(0.3, ge=0, le=1, description=(
+        "a person covering this share of someone's last mask may be them however far their centre "
+        "moved (close to the camera, an arm coming into view moves it a lot)"))
     overlap_bonus_mm: float = Field(300, ge=0, description="cost taken off for covering all of last frame's mask")
     height_weight: float = Field(0.5, ge=0, description="cost per mm of change in height (the top of the person)")
     piece_width_mm: float = Field(450, gt=0, description=(
         "a further piece this close sideways to a matched person's predicted centre, at their depth, is theirs"))
-    piece_depth_mm: float = Field(400, gt=0)
+    piece_depth_mm: float = Field(400, gt=0, description="... and this close in depth to that person")
     velocity_smoothing: float = Field(0.3, gt=0, le=1, description="weight of the newest velocity measurement")
-    return_s: float = Field(5.0, ge=0, description="a person lost this recently who comes back ...")
-    return_mm: float = Field(800, ge=0, description="... this close to where they were lost ...")
+    return_s: float = Field(5.0, ge=0, description=(
+        "a person lost at most this long ago who comes back where they left gets their id back"))
+    return_mm: float = Field(800, ge=0, description="where they left: this close (sideways and in depth) to where they were last seen")
     return_height_mm: float = Field(200, ge=0, description=(
-        "... and no taller than they were seen (by this much) gets their id back (shorter is fine: "
-        "someone coming back into view shows only part of themselves at first)"))
+        "a person coming back is no taller than they were seen by more than this (shorter is fine: "
+        "someone coming into view shows only part of themselves at first)"))
 
 
 @dataclass(eq=False)
@@ -133,13 +140,13 @@ class PeopleTracker:
         predicted = track.predicted(t, o.match_max_gap_s)
         d = person.centre - predicted
         distance = float(np.sqrt(d[0] ** 2 + (0.5 * d[1]) ** 2 + d[2] ** 2))
-        if distance > o.match_slack_mm + o.max_speed_mm_s * min(t - track.seen, o.match_max_gap_s):
-            return None
-        cost = distance + o.height_weight * abs(person.top_mm - track.top_mm)
+        overlap = 0.0
         if track.mask is not None and track.mask.shape == person.segment.mask.shape:
-            shared = np.count_nonzero(track.mask & person.segment.mask)
-            cost -= o.overlap_bonus_mm * shared / max(1, np.count_nonzero(track.mask))
-        return cost
+            overlap = np.count_nonzero(track.mask & person.segment.mask) / max(1, np.count_nonzero(track.mask))
+        gate = o.match_slack_mm + o.max_speed_mm_s * min(t - track.seen, o.match_max_gap_s)
+        if distance > gate and overlap < o.same_place_overlap:
+            return None
+        return distance + o.height_weight * abs(person.top_mm - track.top_mm) - o.overlap_bonus_mm * overlap
 
     def _match(self, t: float, people: list[Person]) -> dict[_Track, Person]:
         """The assignment of people to tracks with the smallest total cost (at most 4 x 4 here,

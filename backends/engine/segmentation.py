@@ -3,7 +3,7 @@
 On a coarse grid (about 160 columns whatever the sensor's resolution) the depth becomes world
 millimetres; a floor plane found by RANSAC among near-horizontal planes is removed; depth jumps
 cut the image into surfaces; every person-sized surface (judged in mm and m^2, not pixels) between
-`min_distance_mm` and `max_distance_mm` is a person (up to `max_people`, nearest first), and each
+`min_distance_mm` and `max_distance_mm` (0.5 to 4.5 m) is a person (up to `max_people`, nearest first), and each
 small surface within arm's reach in front of a person (a forearm pointed at the camera is cut off
 from the body by its own depth edge) joins the nearest such person. Clips whose background is
 already removed are simply the easy case: no floor is found and the user is the only surface.
@@ -48,7 +48,9 @@ class SegmentationOptions(BaseModel):
         "a surface whose surroundings are more than this share nearer surfaces is background seen "
         "between them (a piece of wall between a raised arm and the head), not a person"))
     max_people: int = Field(4, ge=1, le=15, description="at most this many people, the nearest")
-    min_distance_mm: float = Field(800, ge=0, description="a person's mean depth is at least this")
+    min_distance_mm: float = Field(500, ge=0, description=(
+        "a person's mean depth is at least this (a Kinect sees people from 0.8 m; a near-range "
+        "camera such as an SR305 sees someone at 0.7 m)"))
     max_distance_mm: float = Field(4500, gt=0, description="and at most this (farther, the depth is too coarse)")
 
 

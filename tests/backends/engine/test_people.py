@@ -173,7 +173,7 @@ def test_a_person_back_late_or_elsewhere_is_someone_new():
     tracker = PeopleTracker(PeopleOptions(lost_timeout_s=0.5, return_s=2.0))
     play(tracker, [(0.0, [person(-1000), person(1000)]), (0.1, [person(-1000), person(1000)])])
     play(tracker, [(t, [person(1000)]) for t in (0.2, 0.5, 0.8)])
-    elsewhere = play(tracker, [(1.0, [person(1000), person(-1000, z=3500)])])
+    elsewhere = play(tracker, [(1.0, [person(1000), person(-1000, z=3500, cols=slice(5, 7))])])
     assert (3, HandState.NEW) in elsewhere[0]  # 1 m deeper than where 1 left: not them
     taller = play(tracker, [(1.1, [person(1000), person(-1000, top=900)])])
     assert (4, HandState.NEW) in taller[0]  # where 1 left, but 300 mm taller: someone else
