@@ -50,6 +50,19 @@ def union(a: Box | None, b: Box | None) -> Box | None:
     return (min(a[0], b[0]), max(a[1], b[1]), min(a[2], b[2]), max(a[3], b[3]))
 
 
+def separate(boxes: list[Box | None]) -> list[Box]:
+    """The boxes with every overlapping group replaced by its union: performers far apart keep
+    their own small boxes, overlapping ones share one."""
+    out: list[Box] = []
+    for box in filter(None, boxes):
+        while (hit := next((b for b in out if b[0] < box[1] and box[0] < b[1] and b[2] < box[3] and box[2] < b[3]),
+                           None)) is not None:
+            out.remove(hit)
+            box = union(box, hit)
+        out.append(box)
+    return out
+
+
 class Raster:
     """Draws shapes into a float32 z-buffer (millimetres, inf = nothing there)."""
 
@@ -88,7 +101,7 @@ class Raster:
         own, target = scratch[v0:v1, u0:u1], zbuf[v0:v1, u0:u1]
         nearer = own < target
         np.copyto(target, own, where=nearer)
-        labels[v0:v1, u0:u1][nearer] = label
+        np.copyto(labels[v0:v1, u0:u1], label, where=nearer)
         own.fill(np.inf)
         return region
 

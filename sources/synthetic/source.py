@@ -18,7 +18,7 @@ from host.options import ProfilePath
 from sources.fakenect import KINECT_V1_FOV_DEG
 from sources.synthetic.choreography import Step, Timeline, default_steps, load_file
 from sources.synthetic.performer import Body, Performer, Pose
-from sources.synthetic.render import Raster, union
+from sources.synthetic.render import Raster, separate
 from sources.synthetic.scene import PerformerOptions, SceneName, scene
 from sources.synthetic.sensor import KinectModel
 
@@ -155,12 +155,12 @@ class SyntheticSource(Source):
             self.offset, self.length = end, max(a.timeline.length for a in self.actors)
         np.copyto(self.zbuf, self.room)
         labels = np.zeros(self.zbuf.shape, np.uint8)
-        region, everyone = None, []
+        regions, everyone = [], []
         for actor in self.actors:
             pose = actor.performer.pose(actor.timeline.posture(t))
-            region = union(region, self.raster.draw_labelled(self.zbuf, pose.shapes, self.scratch, labels, actor.id))
+            regions.append(self.raster.draw_labelled(self.zbuf, pose.shapes, self.scratch, labels, actor.id))
             everyone.append((UserTruth(actor.id, pose.hands, pose.body, actor.timeline.active(t)), self._in_view(pose)))
-        data = self.sensor.capture(self.zbuf, region)
+        data = self.sensor.capture(self.zbuf, separate(regions))
         data.flags.writeable = False
         labels.flags.writeable = False
         truth = self._truth(everyone, labels)

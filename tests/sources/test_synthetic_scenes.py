@@ -10,9 +10,12 @@ from host import DepthFrame, Side
 from host.errors import ProfileError
 from host.plugins import Registry
 from host.profile import parse
+from host.recording import Recording
+from host.recording.codec import truth_from_json, truth_to_json
 from backends.truth import TruthBackend
 from sources.synthetic import SyntheticOptions, SyntheticSource
 from sources.synthetic.scene import offstage_x
+from tests.recordings import SYNTH, record
 
 CLEAN = {"width": 320, "height": 240, "noise": 0, "holes": 0}
 
@@ -185,3 +188,24 @@ def test_scene_options_that_belong_to_performers_are_refused_with_where_to_put_t
         with pytest.raises(ProfileError) as caught:
             parse(f'backend = "truth"\n[source]\nname = "synthetic"\n{extra}', "p.toml", tmp_path, registry)
         assert expected in "\n".join(caught.value.lines), caught.value.lines
+
+
+def test_a_recorded_duet_keeps_every_performers_truth(tmp_path):
+    """`issv record` of a duet: the truth read back has both users, as the source gave them."""
+    path = record(tmp_path, seconds=5.0, scene="duet")
+    live = frames(scene="duet", **SYNTH)
+    with Recording(path) as rec:
+        back = [f.depth for f in rec.frames()]
+    assert len(back) >= 150
+    for recorded, shown in zip(back, live):
+        assert recorded.truth.users == shown.truth.users and len(shown.truth.users) == 2
+        assert recorded.truth.hands == shown.truth.hands
+    assert any(u.gestures for f in back for u in f.truth.users if u.id == 2)
+
+
+def test_recordings_without_users_still_read():
+    """Recordings of one performer, and those made before scenes, have no `users` key."""
+    old = {"hands": {"right": [1.0, 2.0, 3.0]}, "gestures": [], "body": {"torso": [0.0, 0.0, 2000.0]}}
+    truth = truth_from_json(old)
+    assert truth.users == () and truth.hands[Side.RIGHT] == (1.0, 2.0, 3.0)
+    assert truth_to_json(truth) == old
