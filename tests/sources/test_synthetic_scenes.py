@@ -6,7 +6,7 @@ from functools import cache
 import numpy as np
 import pytest
 
-from host import DepthFrame, Side
+from host import JOINTS, DepthFrame, Side
 from host.errors import ProfileError
 from host.plugins import Registry
 from host.profile import parse
@@ -132,6 +132,27 @@ def test_truth_hands_lie_on_their_performers_depth_unless_a_nearer_body_hides_th
     assert on_surface > 100
     assert own_body + others < on_surface / 3
     assert others > 0 if name != "handover" else others == 0  # the handover's performers never overlap
+
+
+@pytest.mark.parametrize("name", ["duet", "trio"])
+def test_every_truth_joint_lies_inside_a_drawn_body(name):
+    """Each joint of host.JOINTS is inside its performer: the surface seen at its pixel is a body's
+    (its own or a nearer one) and in front of the joint (side on, by up to the body's width)."""
+    checked = 0
+    for frame in scene(name)[::10]:
+        for user in frame.truth.users:
+            assert set(user.body) == set(JOINTS)
+            for joint, (x, y, z) in user.body.items():
+                u, v, _ = frame.world_to_depth((x, y, z))
+                u, v = round(u), round(v)
+                if not (0 <= u < frame.width and 0 <= v < frame.height):
+                    continue
+                drawn, label = int(frame.data[v, u]), frame.truth.user_labels[v, u]
+                assert label != 0 and drawn < z + 5, (frame.timestamp, user.id, joint, drawn, z)
+                if label == user.id:
+                    assert z - drawn < 650, (frame.timestamp, user.id, joint, drawn, z)
+                checked += 1
+    assert checked > 200
 
 
 def test_labels_are_the_performers_drawn_pixels():
