@@ -17,7 +17,7 @@ from host.options import ProfilePath
 from sources.fakenect import KINECT_V1_FOV_DEG
 from sources.synthetic.choreography import Step, load_file
 
-SceneName = Literal["duet", "handover", "trio"]
+SceneName = Literal["duet", "handover", "trio", "range"]
 OFFSTAGE_MARGIN_MM = 700.0  # beyond the picture's edge by this much, not even a hand shows
 
 
@@ -102,7 +102,20 @@ def _trio() -> list[dict]:
     ]
 
 
-SCENES = {"duet": _duet, "handover": _handover, "trio": _trio}
+def _range() -> list[dict]:
+    """The ends of the range people are tracked in: a child 0.9 m from the camera (its legs below
+    the picture) gestures while an adult 4.4 m away walks behind it and back."""
+    return [
+        {"height_mm": 1200, "distance_mm": 900, "x_mm": -150, "choreography": [
+            _idle(1.0), {"action": "wave"}, _idle(1.0), {"action": "swipe_right"}, _idle(1.0),
+            {"action": "click", "hand": "left"}, _idle(2.0)]},
+        {"height_mm": 1800, "distance_mm": 4400, "x_mm": 1400, "choreography": [
+            {"action": "hand_raise", "hand": "left"}, _walk(-1400, 3.0), {"action": "swipe_left"},
+            _walk(1400, 3.0), _idle(1.0)]},
+    ]
+
+
+SCENES = {"duet": _duet, "handover": _handover, "trio": _trio, "range": _range}
 
 
 def scene(name: SceneName) -> list[PerformerOptions]:

@@ -108,7 +108,18 @@ def test_a_trio_has_a_child_and_three_depths_and_the_child_hides_the_far_adult()
     assert min(share) < 0.5 * max(share)
 
 
-@pytest.mark.parametrize("name", ["duet", "handover", "trio"])
+def test_the_range_scene_has_a_child_at_0_9_m_and_an_adult_at_4_4_m_walking_behind_it():
+    shown = scene("range")
+    assert runs(shown) == [(1, 2)]
+    near, far = shown[0].truth.users
+    assert [near.body["torso"][2], far.body["torso"][2]] == pytest.approx([900, 4400], abs=30)
+    share = np.array([visible(f, 2) for f in shown]) / np.median([visible(f, 2) for f in shown])
+    assert share.min() < 0.2  # hidden behind the child
+    assert {g.name for f in shown for u in f.truth.users for g in u.gestures} == {
+        "wave", "swipe_right", "click", "hand_raise", "swipe_left"}
+
+
+@pytest.mark.parametrize("name", ["duet", "handover", "trio", "range"])
 def test_truth_hands_lie_on_their_performers_depth_unless_a_nearer_body_hides_them(name):
     """At each truth hand's pixel: that hand's surface (at most a hand's length in front of the palm
     centre), or something nearer: the performer's own body (side on, walking) or another performer."""
@@ -204,7 +215,7 @@ def test_scene_options_that_belong_to_performers_are_refused_with_where_to_put_t
     registry.register("backends", TruthBackend, "test")
     registry.register("sources", SyntheticSource, "test")
     for extra, expected in (('scene = "duet"\ndistance_mm = 2000\n', "distance_mm: with a scene or performers"),
-                            ('scene = "quartet"\n', "expected 'duet', 'handover' or 'trio'"),
+                            ('scene = "quartet"\n', "expected 'duet', 'handover', 'trio' or 'range'"),
                             ('[[source.performers]]\nx_mm = 0\n', "a choreography or a choreography_file")):
         with pytest.raises(ProfileError) as caught:
             parse(f'backend = "truth"\n[source]\nname = "synthetic"\n{extra}', "p.toml", tmp_path, registry)
