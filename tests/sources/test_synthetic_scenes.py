@@ -185,10 +185,26 @@ def test_a_lone_performer_is_user_one_and_a_looping_scene_keeps_its_ids():
     assert runs(shown) == [(1,), (1, 2), (2,), (1, 2), (1,), (1, 2), (2,), (1, 2), (1,)]
 
 
-def test_the_truth_backend_sees_every_performers_gestures_only_through_users():
-    shown = scene("duet")
-    first = {g.name for f in shown for g in f.truth.gestures}
-    assert first == {"wave", "swipe_left"}  # Truth.gestures stay the first performer's
+def test_the_truth_backend_reports_each_performer_as_a_user_with_its_label_image():
+    src = SyntheticSource(SyntheticOptions(scene="handover", width=160, height=120))
+    with TruthBackend(src) as backend:
+        backend.start_hand_tracking()
+        tracked = []
+        while (frame := backend.update()) is not None:
+            tracked.append(frame)
+    states = {1: [], 2: []}
+    for frame in tracked:
+        for user in frame.users:
+            if not states[user.id] or states[user.id][-1] != user.state.value:
+                states[user.id].append(user.state.value)
+        truth = frame.depth.truth
+        assert [u.id for u in frame.users if u.in_view] == [u.id for u in truth.users]
+        assert frame.user_labels is truth.user_labels
+        assert all(h.user_id == truth.users[0].id for h in frame.hands)
+    assert states == {1: ["new", "tracking", "lost", "new", "tracking"], 2: ["new", "tracking", "lost"]}
+    first = tracked[0].users[0]
+    assert first.joints["right_hand"].position == tracked[0].depth.truth.hands[Side.RIGHT]
+    assert first.center_of_mass[1] < first.joints["torso"].position[1]  # between the torso and the hips
 
 
 def test_performers_come_from_a_profile_with_their_own_choreography_files(tmp_path):
