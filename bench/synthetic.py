@@ -18,6 +18,7 @@ SETTINGS = {
     "background none": {"background": "none"},
     "duet scene (2 performers)": {"scene": "duet"},
     "trio scene (3 performers)": {"scene": "trio"},
+    "quartet scene (4 performers)": {"scene": "quartet"},
 }
 
 

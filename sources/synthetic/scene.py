@@ -17,7 +17,7 @@ from host.options import ProfilePath
 from sources.fakenect import KINECT_V1_FOV_DEG
 from sources.synthetic.choreography import Step, load_file
 
-SceneName = Literal["duet", "handover", "trio", "range"]
+SceneName = Literal["duet", "handover", "trio", "range", "quartet"]
 OFFSTAGE_MARGIN_MM = 700.0  # beyond the picture's edge by this much, not even a hand shows
 
 
@@ -115,7 +115,23 @@ def _range() -> list[dict]:
     ]
 
 
-SCENES = {"duet": _duet, "handover": _handover, "trio": _trio, "range": _range}
+def _quartet() -> list[dict]:
+    """Four people, as many as the engine tracks: an adult walks in front of a far one and back,
+    a child gestures beside them, two others gesture where they stand."""
+    return [
+        {"height_mm": 1750, "distance_mm": 2200, "x_mm": -500, "choreography": [
+            _idle(0.5), {"action": "wave", "duration": 2.4}, _walk(300, 2.5), {"action": "swipe_left"},
+            _walk(-500, 2.5), _idle(1.0)]},
+        {"height_mm": 1100, "distance_mm": 1800, "x_mm": 600, "choreography": [
+            _idle(1.0), {"action": "click"}, _idle(2.0), {"action": "hand_raise"}, _idle(3.0)]},
+        {"height_mm": 1700, "distance_mm": 3400, "x_mm": 1500, "choreography": [
+            _idle(2.0), {"action": "swipe_right"}, _idle(2.0), {"action": "swipe_down", "hand": "left"}, _idle(3.0)]},
+        {"height_mm": 1850, "distance_mm": 4300, "x_mm": -2000, "choreography": [
+            {"action": "hand_raise"}, _walk(-500, 2.0), {"action": "swipe_up"}, _walk(-2000, 2.0), _idle(2.2)]},
+    ]
+
+
+SCENES = {"duet": _duet, "handover": _handover, "trio": _trio, "range": _range, "quartet": _quartet}
 
 
 def scene(name: SceneName) -> list[PerformerOptions]:

@@ -43,7 +43,7 @@ class SyntheticOptions(BaseModel):
     loop: bool = False
     choreography: list[Step] | None = Field(None, min_length=1, description="steps, inline")
     choreography_file: ProfilePath | None = Field(None, description="TOML file with a `steps` list")
-    scene: SceneName | None = Field(None, description="several performers, built in: duet, handover, trio, range")
+    scene: SceneName | None = Field(None, description="several performers, built in: duet, handover, trio, range, quartet")
     performers: list[PerformerOptions] | None = Field(
         None, min_length=1, max_length=6, description="several performers, each with its own place and steps")
 

@@ -12,6 +12,7 @@ from host.plugins import Registry
 from host.profile import parse
 from host.recording import Recording
 from host.recording.codec import truth_from_json, truth_to_json
+from host.recording.reader import shifted_depth
 from backends.truth import TruthBackend
 from sources.synthetic import SyntheticOptions, SyntheticSource
 from sources.synthetic.scene import offstage_x
@@ -119,7 +120,16 @@ def test_the_range_scene_has_a_child_at_0_9_m_and_an_adult_at_4_4_m_walking_behi
         "wave", "swipe_right", "click", "hand_raise", "swipe_left"}
 
 
-@pytest.mark.parametrize("name", ["duet", "handover", "trio", "range"])
+def test_a_quartet_keeps_four_people_in_view_each_mostly_seen():
+    shown = scene("quartet")
+    assert runs(shown) == [(1, 2, 3, 4)]
+    for user_id in (1, 2, 3, 4):
+        seen = [visible(f, user_id) for f in shown]
+        assert min(seen) > 0.4 * max(seen)  # a tracker can find all four all the time
+    assert sorted(round(u.body["torso"][2], -2) for u in shown[0].truth.users) == [1800, 2200, 3400, 4300]
+
+
+@pytest.mark.parametrize("name", ["duet", "handover", "trio", "range", "quartet"])
 def test_truth_hands_lie_on_their_performers_depth_unless_a_nearer_body_hides_them(name):
     """At each truth hand's pixel: that hand's surface (at most a hand's length in front of the palm
     centre), or something nearer: the performer's own body (side on, walking) or another performer."""
@@ -231,7 +241,7 @@ def test_scene_options_that_belong_to_performers_are_refused_with_where_to_put_t
     registry.register("backends", TruthBackend, "test")
     registry.register("sources", SyntheticSource, "test")
     for extra, expected in (('scene = "duet"\ndistance_mm = 2000\n', "distance_mm: with a scene or performers"),
-                            ('scene = "quartet"\n', "expected 'duet', 'handover', 'trio' or 'range'"),
+                            ('scene = "sextet"\n', "expected 'duet', 'handover', 'trio', 'range' or 'quartet'"),
                             ('[[source.performers]]\nx_mm = 0\n', "a choreography or a choreography_file")):
         with pytest.raises(ProfileError) as caught:
             parse(f'backend = "truth"\n[source]\nname = "synthetic"\n{extra}', "p.toml", tmp_path, registry)
@@ -249,6 +259,13 @@ def test_a_recorded_duet_keeps_every_performers_truth(tmp_path):
         assert recorded.truth.users == shown.truth.users and len(shown.truth.users) == 2
         assert recorded.truth.hands == shown.truth.hands
     assert any(u.gestures for f in back for u in f.truth.users if u.id == 2)
+
+
+def test_a_looped_recording_shifts_every_performers_gesture_intervals():
+    depth = next(f for f in scene("duet") if f.truth.users[1].gestures)
+    later = shifted_depth(depth, 20.0, 0.0)
+    assert later.truth.users[1].gestures[0].start == depth.truth.users[1].gestures[0].start + 20.0
+    assert later.truth.users[1].hands == depth.truth.users[1].hands
 
 
 def test_recordings_without_users_still_read():
