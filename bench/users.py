@@ -1,8 +1,9 @@
 """Several people in the open engine: user-id switches, time to first report, hands per user, ms/frame.
 
 On the synthetic source's scenes of several performers (duet: two crossings; handover: one
-leaves while another enters, then back; trio: a child crossing in front of two adults), rendered
-beforehand at 640x480 (rendering is not timed):
+leaves while another enters, then back; trio: a child crossing in front of two adults; range: a
+child at 0.9 m, an adult at 4.4 m walking behind; quartet: four people), rendered beforehand at
+640x480 (rendering is not timed):
 (a) id switches: each performer is matched, frame by frame, to the reported user whose torso is
     nearest theirs (within MATCH_MM); a change of that user's id is a switch. Crossings are the
     changes of sides (image x order) of two performers both in view. Target <= 1 switch per crossing.
@@ -28,7 +29,7 @@ from bench.common import parse_args, percentiles, report
 from bench.tracking import FOUND_WITHIN_MM, one_core
 from sources.synthetic import SyntheticOptions, SyntheticSource
 
-SCENES = ("duet", "handover", "trio")
+SCENES = ("duet", "handover", "trio", "range", "quartet")
 MATCH_MM = 400.0  # a reported user this near a performer's torso is that performer
 SIZE = {"width": 640, "height": 480}
 

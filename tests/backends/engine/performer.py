@@ -12,9 +12,20 @@ WAVE_THEN_REST = [{"action": "idle", "duration": 0.5}, {"action": "wave"}, {"act
 SWIPE = [{"action": "idle", "duration": 0.4}, {"action": "swipe_left"}, {"action": "idle", "duration": 0.5}]
 
 
-def frames(steps: list[dict], seed: int = 3, **options) -> list[DepthFrame]:
-    """Every frame of a seeded synthetic performance (640x480 with floor and back wall unless told)."""
-    source = SyntheticSource(SyntheticOptions(choreography=steps, seed=seed, **options))
+def idle(seconds: float) -> dict:
+    return {"action": "idle", "duration": seconds}
+
+
+def walk(x_mm: float, seconds: float) -> dict:
+    return {"action": "walk", "x_mm": x_mm, "duration": seconds}
+
+
+def frames(steps: list[dict] | None = None, seed: int = 3, **options) -> list[DepthFrame]:
+    """Every frame of a seeded synthetic performance (640x480 with floor and back wall unless
+    told): one performer's `steps`, or several in `performers`, each with its truth in Truth.users."""
+    if steps is not None:
+        options["choreography"] = steps
+    source = SyntheticSource(SyntheticOptions(seed=seed, **options))
     source.open()
     out = []
     while (frame := source.read()) is not None:

@@ -9,7 +9,7 @@ from backends.engine.backend import OpenISSBackend, OpenISSNuitrackBackend
 from backends.engine.people import PeopleOptions, PeopleTracker
 from backends.engine.segmentation import Grid, Person, Segment
 from host import GestureState, HandState, Side
-from tests.backends.engine.duet import idle, scene_frames, walk
+from tests.backends.engine.performer import frames, idle, walk
 
 SIZE = {"width": 320, "height": 240}
 NEAR = {"x_mm": -900, "distance_mm": 2000, "choreography": [idle(1.0), walk(900, 2.5), idle(1.0)]}
@@ -19,7 +19,7 @@ FAR = {"x_mm": 1100, "distance_mm": 3200, "height_mm": 1650, "choreography": [id
 @pytest.fixture(scope="module")
 def crossing():
     """Two performers cross at the picture's centre, the near one (2.0 m) in front of the far one (3.2 m)."""
-    return scene_frames([NEAR, FAR], **SIZE)
+    return frames(performers=[NEAR, FAR], **SIZE)
 
 
 @pytest.fixture(scope="module")
@@ -28,7 +28,7 @@ def gesturing():
     wave = {"x_mm": -700, "distance_mm": 2200, "choreography": [idle(0.5), {"action": "wave", "hand": "right"}, idle(1.0)]}
     raise_ = {"x_mm": 900, "distance_mm": 3000, "choreography": [idle(1.0), {"action": "hand_raise", "hand": "left"},
                                                                    idle(1.5)]}
-    return scene_frames([wave, raise_], **SIZE)
+    return frames(performers=[wave, raise_], **SIZE)
 
 
 def run(depth_frames):
