@@ -12,7 +12,10 @@ child at 0.9 m, an adult at 4.4 m walking behind; quartet: four people), rendere
 (c) hands per user: in the frames where a performer's hand is extended (score.py's rule: 200 mm in
     front of the spine, 350 mm beside it, or above the head), the share with one of THEIR user's
     hands within 250 mm, and the median distance.
-(d) tracking ms per 640x480 frame on one core (Engine.track: segmentation, people, bodies and
+(d) gestures per user: the share of each performer's gestures (the truth's intervals) that THEIR
+    user reported COMPLETE under the same name between the start and 1 s after the end; and the
+    COMPLETE gestures reported for a user that only another performer was making then (mixed up).
+(e) tracking ms per 640x480 frame on one core (Engine.track: segmentation, people, bodies and
     hands; the recognisers are timed by bench.gestures), thread CPU time and wall time, with one
     performer (the default show) and with two (the duet). Targets <= 3 ms and <= 4 ms.
 """
@@ -27,6 +30,7 @@ import numpy as np
 from backends.engine.backend import OpenISSBackend
 from bench.common import parse_args, percentiles, report
 from bench.tracking import FOUND_WITHIN_MM, one_core
+from host import GestureState
 from sources.synthetic import SyntheticOptions, SyntheticSource
 
 SCENES = ("duet", "handover", "trio", "range", "quartet")
@@ -63,15 +67,23 @@ def scene_figures(frames) -> dict:
     """Id switches, crossings, delay to first report and hand accuracy per performer of one scene."""
     engine = OpenISSBackend().build_engine()
     ids: dict[int, list[int]] = defaultdict(list)
+    users: dict[int, set[int]] = defaultdict(set)  # performer -> every user id matched to them
     entered: dict[int, float] = {}
     reported: dict[int, float] = {}
     sides: dict[tuple[int, int], list[bool]] = defaultdict(list)
     errors: dict[int, list[float]] = defaultdict(list)
     missed: dict[int, int] = defaultdict(int)
+    intervals: dict[int, set] = defaultdict(set)  # performer -> (name, start, end) of their gestures
+    completed: list = []  # (time, user id, name) of every COMPLETE gesture
     for frame in frames:
         result = engine.step(frame)
         truth = frame.truth.users
         found = matches(truth, result.users)
+        completed += [(g.timestamp, g.user_id, g.name) for g in result.gestures if g.state is GestureState.COMPLETE]
+        for p in truth:
+            intervals[p.id] |= {(g.name, g.start, g.end) for g in p.gestures}
+            if p.id in found:
+                users[p.id].add(found[p.id])
         for p in truth:
             entered.setdefault(p.id, frame.timestamp)
             if p.id in found:
@@ -91,6 +103,7 @@ def scene_figures(frames) -> dict:
             for b in xs:
                 if a < b:
                     sides[a, b].append(xs[a] < xs[b])
+    hits, mixed = gesture_hits(intervals, users, completed)
     crossings = sum(int(np.sum(np.diff(np.array(s, int)) != 0)) for s in sides.values())
     switches = sum(len(v) - 1 for v in ids.values())
     performers = {}
@@ -100,9 +113,26 @@ def scene_figures(frames) -> dict:
             "first_report_s": reported[pid] - entered[pid] if pid in reported else None,
             "id_switches": len(ids[pid]) - 1 if ids[pid] else None,
             "hand_found_rate": len(errors[pid]) / total if total else None,
-            "hand_error_mm": float(np.median(errors[pid])) if errors[pid] else None}
-    return {"crossings": crossings, "id_switches": switches,
+            "hand_error_mm": float(np.median(errors[pid])) if errors[pid] else None,
+            "gestures": len(intervals[pid]), "gestures_found": hits[pid]}
+    return {"crossings": crossings, "id_switches": switches, "gestures_mixed_up": mixed,
             "switches_per_crossing": switches / crossings if crossings else None, "performers": performers}
+
+
+def gesture_hits(intervals: dict[int, set], users: dict[int, set[int]], completed: list) -> tuple[dict, int]:
+    """Per performer, how many of their gestures their user reported; and how many reported
+    gestures belong to another performer making that gesture then (none of the user's own)."""
+    def making(pid: int, name: str, t: float) -> bool:
+        return any(n == name and start <= t <= end + 1.0 for n, start, end in intervals[pid])
+
+    hits = {pid: sum(any(uid in users[pid] and n == name and start <= t <= end + 1.0 for t, uid, n in completed)
+                     for name, start, end in gestures) for pid, gestures in intervals.items()}
+    mixed = 0
+    for t, uid, name in completed:
+        own = [pid for pid in users if uid in users[pid]]
+        if not any(making(pid, name, t) for pid in own) and any(making(pid, name, t) for pid in intervals):
+            mixed += 1
+    return hits, mixed
 
 
 def timing(frames) -> dict:
@@ -133,14 +163,14 @@ def main() -> None:
         figures[name] = f
         for pid, p in f["performers"].items():
             rows.append([name, pid, f["crossings"], p["id_switches"], p["first_report_s"], p["hand_found_rate"],
-                         p["hand_error_mm"], "", ""])
+                         p["hand_error_mm"], f"{p['gestures_found']}/{p['gestures']}", f["gestures_mixed_up"], "", ""])
     for label, frames in (("1 user", solo), ("2 users", scenes["duet"])):
         t = timing(frames)
         figures[f"ms_640x480_{label.replace(' ', '_')}"] = t
-        rows.append([f"timing, {label}", "", "", "", "", "", "", t["cpu_ms"]["median"], t["wall_ms"]["median"]])
+        rows.append([f"timing, {label}", "", "", "", "", "", "", "", "", t["cpu_ms"]["median"], t["wall_ms"]["median"]])
     figures["load_average_1min_after"] = os.getloadavg()[0]
     columns = ["scene", "performer", "crossings", "id switches", "first report s", "hands found",
-               "hand err mm", "ms cpu p50", "ms wall p50"]
+               "hand err mm", "gestures found", "mixed up", "ms cpu p50", "ms wall p50"]
     report(f"several users at 640x480 on one core (load average {figures['load_average_1min']:.1f} before, "
            f"{figures['load_average_1min_after']:.1f} after)", figures, rows, columns, args.json)
 
