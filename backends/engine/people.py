@@ -19,11 +19,10 @@ uint8 label image.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from itertools import permutations
-
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
+from backends.engine.assignment import best_assignment
 from backends.engine.segmentation import Person, Segment
 from host import HandState
 
@@ -149,8 +148,7 @@ class PeopleTracker:
         return distance + o.height_weight * abs(person.top_mm - track.top_mm) - o.overlap_bonus_mm * overlap
 
     def _match(self, t: float, people: list[Person]) -> dict[_Track, Person]:
-        """The assignment of people to tracks with the smallest total cost (at most 4 x 4 here,
-        so every assignment is tried); an unmatched pair costs more than any match."""
+        """The assignment of people to live tracks with the smallest total cost."""
         tracks = [tr for tr in self._tracks if t - tr.seen <= self.options.lost_timeout_s]
         if not tracks or not people:
             return {}
@@ -160,15 +158,7 @@ class PeopleTracker:
                 cost = self._cost(t, tr, p)
                 if cost is not None:
                     allowed[i, j] = cost
-        tracks_first = len(tracks) <= len(people)
-        small, large = (len(tracks), len(people)) if tracks_first else (len(people), len(tracks))
-        best, best_cost = {}, None
-        for perm in permutations(range(large), small):
-            pairs = [(i, j) if tracks_first else (j, i) for i, j in enumerate(perm)]
-            cost = sum(allowed.get(pair, 1e7) for pair in pairs)
-            if best_cost is None or cost < best_cost:
-                best, best_cost = {tracks[i]: people[j] for i, j in pairs if (i, j) in allowed}, cost
-        return best
+        return {tracks[i]: people[j] for i, j in best_assignment(allowed, len(tracks), len(people))}
 
     def _owner(self, t: float, piece: Person, matched: dict[_Track, Person]) -> _Track | None:
         """The matched person a further piece belongs to (the far side of someone in front), if any."""

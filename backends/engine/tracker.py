@@ -13,13 +13,14 @@ not a new hand.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from itertools import count, permutations
+from itertools import count
 from typing import Iterator
 
 import cv2
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
+from backends.engine.assignment import best_assignment
 from backends.engine.hands import Candidate, HandDetector, HandOptions
 from backends.engine.segmentation import Segment, SegmentationOptions, Segmenter
 from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
@@ -201,18 +202,7 @@ class HandTracker:
                 d = float(np.linalg.norm(tr.position - c.position))
                 if d <= gate and not self._other_arm(t, tr, c, torso, mirrored):
                     allowed[i, j] = d
-        best: dict = {}
-        best_cost = None
-        tracks_first = len(tracks) <= len(found)
-        small, large = (len(tracks), len(found)) if tracks_first else (len(found), len(tracks))
-        for perm in permutations(range(large), small):
-            pairs = [(i, j) if tracks_first else (j, i) for i, j in enumerate(perm)]
-            # an unmatched pair costs more than any match
-            cost = sum(allowed.get(pair, 1e6) for pair in pairs)
-            if best_cost is None or cost < best_cost:
-                best = {tracks[i]: found[j] for i, j in pairs if (i, j) in allowed}
-                best_cost = cost
-        return best
+        return {tracks[i]: found[j] for i, j in best_assignment(allowed, len(tracks), len(found))}
 
     def _birth(self, t: float, cand: Candidate, side: Side) -> _Track:
         track = _Track(next(self._ids), side, OneEuroFilter(self.options.smoothing), cand.position, t, t,
