@@ -7,7 +7,7 @@ import pytest
 
 from backends.engine.backend import OpenISSBackend, OpenISSNuitrackBackend
 from backends.engine.people import PeopleOptions, PeopleTracker
-from backends.engine.segmentation import Grid, Person, Segment
+from backends.engine.segmentation import Grid, Person, Segment, SegmentationOptions, Segmenter
 from host import GestureState, HandState, Side
 from tests.backends.engine.performer import frames, idle, walk
 
@@ -210,3 +210,14 @@ def test_two_people_at_the_same_depth_keep_their_ids_by_heading():
             if u.person is not None and not together:
                 ids.setdefault("a" if u.person is a else "b", set()).add(u.id)
     assert ids == {"a": {1}, "b": {2}}
+
+
+@pytest.mark.parametrize("max_enclosed, phantoms", [(SegmentationOptions().max_enclosed, False), (1.0, True)])
+def test_the_wall_between_a_raised_arm_and_the_head_is_nobody(max_enclosed, phantoms):
+    """A raised arm cuts a piece of the back wall off between itself, the head and the picture's
+    edge, as tall as a person: it is surrounded by the performer, so it is background."""
+    raised = frames([idle(0.3), {"action": "hand_raise", "hand": "right"}, idle(0.5)], seed=1, **SIZE)
+    segmenter = Segmenter(SegmentationOptions(max_enclosed=max_enclosed))
+    counts = [len(segmenter.people(f)) for f in raised]
+    assert min(counts) == 1
+    assert (max(counts) > 1) is phantoms, counts
