@@ -53,9 +53,10 @@ class EngineFrame:
     """One frame of the engine: users, every user's hands (user_id set), gestures, per-user results."""
 
     users: tuple[User, ...]
-    hands: tuple[Hand, ...]
+    hands: tuple[Hand, ...]  # the extended hands the recognisers follow
     results: Mapping[int, TrackResult]  # user id -> that user's tracking (seen or hidden users)
     seen: frozenset[int] = frozenset()  # ids of the hands found in this frame
+    user_hands: tuple[Hand, ...] = ()  # every user's both hands, when their skeleton gives them
     gestures: tuple[Gesture, ...] = ()
     _labels: list = field(default_factory=list, repr=False)  # (user id, TrackResult) seen now, far first
 
@@ -110,7 +111,7 @@ class Engine:
         for their recognisers' last word."""
         t, mirrored = depth.timestamp, depth.mirrored
         people = self.people.update(t, self.segmenter.people(depth))
-        users, hands, results, seen, labels = [], [], {}, set(), []
+        users, hands, both, results, seen, labels = [], [], [], {}, set(), []
         ended = self._ended = []
         for person in people:
             pipeline = self.pipelines.get(person.id)
@@ -129,6 +130,7 @@ class Engine:
                 result = replace(result, mask=segment.mask, grid_z=segment.grid.z)
             results[person.id] = result
             hands += [replace(h, user_id=person.id) for h in result.hands]
+            both += [replace(h, user_id=person.id) for h in result.user_hands]
             seen |= result.seen
             user = self._user(person.id, box, result, pipeline, t)
             if user is not None:
@@ -137,7 +139,7 @@ class Engine:
                 labels.append((person.centre[2], person.id, result))
         labels = [(uid, result) for _, uid, result in sorted(labels, key=lambda x: -x[0])]
         return EngineFrame(tuple(users), tuple(sorted(hands, key=lambda h: h.id)), results, frozenset(seen),
-                           _labels=labels)
+                           tuple(both), _labels=labels)
 
     def _box(self, segment: Segment | None, depth_mm: float) -> Segment | None:
         """The segment cut down to the user's box plus a margin as wide as the body's widest
