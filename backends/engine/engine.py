@@ -18,7 +18,6 @@ from itertools import count
 from typing import Mapping
 
 import numpy as np
-
 from pydantic import Field
 
 from backends.engine.people import PeopleOptions, PeopleTracker
@@ -58,13 +57,14 @@ class EngineFrame:
     seen: frozenset[int] = frozenset()  # ids of the hands found in this frame
     user_hands: tuple[Hand, ...] = ()  # every user's both hands, when their skeleton gives them
     gestures: tuple[Gesture, ...] = ()
-    _labels: list = field(default_factory=list, repr=False)  # (user id, TrackResult) seen now, far first
+    #: the users seen now as (user id, TrackResult), farthest first: the label image's drawing order
+    drawn: list = field(default_factory=list, repr=False)
 
     def user_labels(self, depth: DepthFrame) -> np.ndarray:
         """uint8 (H, W) at the depth image's size: 0 nobody, else the id of the user seen there
         (a nearer user drawn over a farther one)."""
         labels = np.zeros((depth.height, depth.width), np.uint8)
-        for uid, result in self._labels:
+        for uid, result in self.drawn:
             mask = result.full_mask(depth)
             if mask is not None:
                 labels[mask] = uid
@@ -139,7 +139,7 @@ class Engine:
                 labels.append((person.centre[2], person.id, result))
         labels = [(uid, result) for _, uid, result in sorted(labels, key=lambda x: -x[0])]
         return EngineFrame(tuple(users), tuple(sorted(hands, key=lambda h: h.id)), results, frozenset(seen),
-                           tuple(both), _labels=labels)
+                           tuple(both), drawn=labels)
 
     def _box(self, segment: Segment | None, depth_mm: float) -> Segment | None:
         """The segment cut down to the user's box plus a margin as wide as the body's widest
