@@ -38,8 +38,6 @@ class SegmentationOptions(BaseModel):
     floor_min_span_mm: float = Field(1000, gt=0, description="a floor is at least this wide (a seated lap is not)")
     min_user_area_m2: float = Field(0.08, gt=0, description="frontal area of the smallest user (a head and shoulders)")
     min_user_height_mm: float = Field(450, gt=0)
-    min_cut_user_height_mm: float = Field(300, gt=0, description=(
-        "the smallest user that goes on below the picture (a child close to the camera: head and chest)"))
     max_user_width_mm: float = Field(2300, gt=0, description="arms spread; a wall is wider")
     max_user_depth_spread_mm: float = Field(600, gt=0, description="std of depth over the user; a side wall is deeper")
     reach_mm: float = Field(1000, gt=0, description="a detached surface this close in front of the user is part of them")
@@ -252,9 +250,7 @@ class Segmenter:
         spread = np.sqrt(np.maximum(zz - mean[2] ** 2, 0))
         ext_w = stats[:, cv2.CC_STAT_WIDTH] * g.cell_x * mean[2]  # bounding box in mm at the mean depth
         ext_h = stats[:, cv2.CC_STAT_HEIGHT] * g.cell_y * mean[2]
-        cut = stats[:, cv2.CC_STAT_TOP] + stats[:, cv2.CC_STAT_HEIGHT] >= labels.shape[0]
-        person = ((area >= o.min_user_area_m2 * 1e6)
-                  & (ext_h >= np.where(cut, o.min_cut_user_height_mm, o.min_user_height_mm))
+        person = ((area >= o.min_user_area_m2 * 1e6) & (ext_h >= o.min_user_height_mm)
                   & (ext_w <= o.max_user_width_mm) & (spread <= o.max_user_depth_spread_mm)
                   & (mean[2] >= o.min_distance_mm) & (mean[2] <= o.max_distance_mm))
         person[0] = False
