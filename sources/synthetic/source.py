@@ -24,6 +24,7 @@ from sources.synthetic.sensor import KinectModel
 
 CAMERA_HEIGHT_MM = 1100.0  # the sensor on a stand at chest height, looking level
 WALL_BEHIND_MM = 1500.0  # back wall distance behind the (farthest) performer
+SWAY_PHASE = 2.4  # radians between one performer's idle sway and the next one's
 SOLO = ("distance_mm", "height_mm", "handedness", "choreography", "choreography_file")  # one performer's options
 
 
@@ -87,7 +88,7 @@ class Actor:
         """This performer's next pass through its steps, from `start_x`, starting `offset` s into the show."""
         o = self.options
         self.timeline = Timeline(self.steps, self.body, Side(o.handedness), start_x, o.distance_mm, speed, offset,
-                                 self.origin)
+                                 self.origin, SWAY_PHASE * (self.id - 1))
 
 
 class SyntheticSource(Source):
