@@ -39,6 +39,10 @@ class SkeletonOptions(BaseModel):
     legs_below_hips_mm: tuple[float, float] = Field((400, 700), description=(
         "the rows (mm below the hip line) whose outline is the thighs' width"))
     legs_half_width_mm: float = Field(170, gt=0, description="the thighs' outer edge from the spine, when no legs are seen")
+    behind_mm: float = Field(150, gt=0, description=(
+        "cells farther than this behind the trunk's surface are not an arm (a chair, a wall beside the user)"))
+    fingertip_step_mm: float = Field(40, gt=0, description=(
+        "going down a hanging arm, the outline stepping in by this much is where the fingers end"))
     palm_height_mm: float = Field(130, gt=0, description="the hand: the rows this far above the fingertips")
     palm_width_mm: float = Field(100, gt=0, description="and within this much of the outline's outer edge")
     in_front_mm: float = Field(70, ge=0, description=(
@@ -157,7 +161,7 @@ class SkeletonEstimator:
         tx = body.torso[0]
         out = outwards * (g.x - tx)
         top = body.shoulder_y - o.forearm_below_shoulder_mm
-        side = seg.mask & (out > 40)
+        side = seg.mask & (out > 40) & (g.z - body.surface_z < o.behind_mm)
         rows_y = _row_heights(g.y, seg.mask)
         # The legs' outer edge: the median over the thighs' rows, where legs are seen.
         legs_lo, legs_hi = body.hip_y - o.legs_below_hips_mm[1], body.hip_y - o.legs_below_hips_mm[0]
@@ -167,7 +171,8 @@ class SkeletonEstimator:
         arm_rows = ((rows_y < top) & (rows_y > body.shoulder_y - o.arm_length_mm)
                     & (edge > legs_edge + o.beside_legs_mm))
         if arm_rows.any():
-            tip = float(rows_y[np.flatnonzero(arm_rows)[-1]])
+            tip_row = self._fingertips(edge, np.flatnonzero(arm_rows))
+            tip = float(rows_y[tip_row])
             palm = side & (g.y >= tip - 1) & (g.y <= tip + o.palm_height_mm) & (out >= edge[:, None] - o.palm_width_mm)
             palm &= out > legs_edge  # the hand, not the thigh beside it
         else:
@@ -183,6 +188,20 @@ class SkeletonEstimator:
         position = np.array([g.x[palm].mean(), g.y[palm].mean(), np.median(g.z[palm]) + o.hand_depth_mm])
         seen = float(g.pixel_area_mm2[palm].sum()) / (o.palm_area_m2 * 1e6)
         return position, min(o.resting_confidence, seen)
+
+    def _fingertips(self, edge: np.ndarray, rows: np.ndarray) -> int:
+        """The grid row where the hanging arm ends: going down the first run of arm rows (a row
+        or two may be missing), the last one before the outline steps in by `fingertip_step_mm`
+        (the thigh below the fingers), else the run's last row."""
+        o = self.options
+        end = 0
+        while end + 1 < len(rows) and rows[end + 1] - rows[end] <= 2:
+            end += 1
+        run = rows[: end + 1]
+        for k in range(1, len(run)):
+            if edge[run[max(0, k - 3):k]].max() - edge[run[k]] > o.fingertip_step_mm:
+                return int(run[k - 1])
+        return int(run[-1])
 
     def _hanging(self, body: Body, outwards: float) -> np.ndarray:
         """Only before a side's hand was ever measured: beside the hip, with confidence 0."""
