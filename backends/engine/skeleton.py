@@ -43,7 +43,7 @@ class SkeletonOptions(BaseModel):
         "cells farther than this behind the trunk's surface are not an arm (a chair, a wall beside the user)"))
     fingertip_step_mm: float = Field(40, gt=0, description=(
         "going down a hanging arm, the outline stepping in by this much is where the fingers end"))
-    palm_height_mm: float = Field(130, gt=0, description="the hand: the rows this far above the fingertips")
+    palm_height_mm: float = Field(80, gt=0, description="the hand: the rows this far above the fingertips")
     palm_width_mm: float = Field(100, gt=0, description="and within this much of the outline's outer edge")
     in_front_mm: float = Field(70, ge=0, description=(
         "a hand held before the lower body stands out of the trunk's plane by more than this"))
