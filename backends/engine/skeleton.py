@@ -31,19 +31,22 @@ class SkeletonOptions(BaseModel):
     """Anatomy in mm, the same for every performer."""
 
     model_config = ConfigDict(extra="forbid")
-    forearm_below_shoulder_mm: float = Field(250, gt=0, description=(
+    forearm_below_shoulder_mm: float = Field(400, gt=0, description=(
         "a hanging hand is lower than this below the shoulder line (above it, the outline is the upper arm)"))
-    arm_length_mm: float = Field(850, gt=0, description="a hand is no farther than this below its shoulder")
+    arm_length_mm: float = Field(750, gt=0, description="a hand is no farther than this below its shoulder")
     beside_legs_mm: float = Field(40, ge=0, description=(
         "a hanging arm's rows stick out this much farther sideways than the legs below them"))
     legs_below_hips_mm: tuple[float, float] = Field((400, 700), description=(
         "the rows (mm below the hip line) whose outline is the thighs' width"))
     legs_half_width_mm: float = Field(170, gt=0, description="the thighs' outer edge from the spine, when no legs are seen")
+    knee_above_hips_mm: float = Field(100, description=(
+        "an extended hand lower than this above the hip line, with a hand found beside the legs on "
+        "its side, is a seated performer's knee"))
     behind_mm: float = Field(150, gt=0, description=(
         "cells farther than this behind the trunk's surface are not an arm (a chair, a wall beside the user)"))
     fingertip_step_mm: float = Field(40, gt=0, description=(
         "going down a hanging arm, the outline stepping in by this much is where the fingers end"))
-    palm_height_mm: float = Field(80, gt=0, description="the hand: the rows this far above the fingertips")
+    palm_height_mm: float = Field(50, gt=0, description="the hand: the rows this far above the fingertips")
     palm_width_mm: float = Field(100, gt=0, description="and within this much of the outline's outer edge")
     in_front_mm: float = Field(70, ge=0, description=(
         "a hand held before the lower body stands out of the trunk's plane by more than this"))
@@ -96,16 +99,22 @@ class SkeletonEstimator:
             shoulder = self._shoulder(seg, body, outwards)
             joints[f"{name}_shoulder"] = Joint(_vec(shoulder), 0.8)
             out = [h for h in extended if h.side is side and h.in_view]
+            found = self._resting(seg, body, outwards)
+            if out and found is not None and found[2] and self._knee(out, found[0], body):
+                # A seated performer's knee sticks out like a hand; the hand rests on it or beside it:
+                # between the knee's depth and that of the outline beside it.
+                knee_z = min(h.position[2] for h in out)
+                found = (np.array([found[0][0], found[0][1], 0.5 * (found[0][2] + knee_z)]), *found[1:])
+                out = []
             if out:
                 hand = max(out, key=lambda h: h.confidence)
                 position, confidence, is_out = np.asarray(hand.position), hand.confidence, True
                 at_border = hand.state is HandState.TOUCHING_FOV
             else:
-                found = self._resting(seg, body, outwards)
                 is_out, at_border = False, False
                 state = self._sides[side]
                 if found is not None:
-                    position, confidence = found
+                    position, confidence = found[:2]
                 elif state.offset is not None:
                     position, confidence = torso + state.offset, 0.0
                 else:
@@ -154,9 +163,17 @@ class SkeletonEstimator:
             half = min(hi, max(lo, edge - o.shoulder_inside_edge_mm))
         return np.array([tx + outwards * half, body.shoulder_y, body.surface_z + o.joint_depth_mm])
 
-    def _resting(self, seg: Segment, body: Body, outwards: float) -> tuple[np.ndarray, float] | None:
+    def _knee(self, out: list[Hand], beside: np.ndarray, body: Body) -> bool:
+        """An extended hand below the hips with a hand found beside the legs next to it (within a
+        forearm) is a seated performer's knee."""
+        o = self.options
+        return all(h.position[1] < body.hip_y + o.knee_above_hips_mm
+                   and np.linalg.norm(np.subtract(h.position, beside)) < o.upper_arm_mm[1] for h in out)
+
+    def _resting(self, seg: Segment, body: Body, outwards: float) -> tuple[np.ndarray, float, bool] | None:
         """The hand at the lowest end of the arm beside the legs, else the lowest part of the user
-        on this side held in front of the trunk's plane; None when the depth shows neither."""
+        on this side held in front of the trunk's plane; None when the depth shows neither. The
+        flag says whether it was found beside the legs."""
         o, g = self.options, seg.grid
         tx = body.torso[0]
         out = outwards * (g.x - tx)
@@ -170,7 +187,8 @@ class SkeletonEstimator:
         legs_edge = float(np.median(legs)) if legs.size >= 3 else o.legs_half_width_mm
         arm_rows = ((rows_y < top) & (rows_y > body.shoulder_y - o.arm_length_mm)
                     & (edge > legs_edge + o.beside_legs_mm))
-        if arm_rows.any():
+        beside = bool(arm_rows.any())
+        if beside:
             tip_row = self._fingertips(edge, np.flatnonzero(arm_rows))
             tip = float(rows_y[tip_row])
             palm = side & (g.y >= tip - 1) & (g.y <= tip + o.palm_height_mm) & (out >= edge[:, None] - o.palm_width_mm)
@@ -185,9 +203,9 @@ class SkeletonEstimator:
             palm = front & (g.y <= tip + o.palm_height_mm)
         if not palm.any():
             return None
-        position = np.array([g.x[palm].mean(), g.y[palm].mean(), np.median(g.z[palm]) + o.hand_depth_mm])
+        position = np.array([g.x[palm].mean(), g.y[palm].mean(), np.percentile(g.z[palm], 20) + o.hand_depth_mm])
         seen = float(g.pixel_area_mm2[palm].sum()) / (o.palm_area_m2 * 1e6)
-        return position, min(o.resting_confidence, seen)
+        return position, min(o.resting_confidence, seen), beside
 
     def _fingertips(self, edge: np.ndarray, rows: np.ndarray) -> int:
         """The grid row where the hanging arm ends: going down the first run of arm rows (a row
