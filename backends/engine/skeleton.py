@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from backends.engine.segmentation import Segment
+from backends.engine.segmentation import Grid, Segment
 from backends.engine.trunk import Body
 from backends.users import hand_id
 from host import Hand, HandState, Joint, Side, Vec3
@@ -88,7 +88,8 @@ class SkeletonEstimator:
     def estimate(self, seg: Segment, body: Body, extended: tuple[Hand, ...], mirrored: bool) -> Skeleton:
         """This frame's skeleton. `extended`: the tracker's hands that stick out of the body (in view
         or held), whose sides are the performer's."""
-        o, g = self.options, seg.grid
+        o = self.options
+        view = _View.of(seg, body, o.behind_mm)
         torso = body.torso
         neck = np.array([torso[0], body.shoulder_y, torso[2]])
         joints = {"head": Joint(_vec(body.head), 1.0), "neck": Joint(_vec(neck), 1.0), "torso": Joint(_vec(torso), 1.0)}
@@ -96,10 +97,11 @@ class SkeletonEstimator:
         for side in (Side.LEFT, Side.RIGHT):
             outwards = 1.0 if (side is Side.RIGHT) == mirrored else -1.0  # image right is +x
             name = side.value
-            shoulder = self._shoulder(seg, body, outwards)
+            cells = self._side_view(view, body, outwards)
+            shoulder = self._shoulder(view, cells, body, outwards)
             joints[f"{name}_shoulder"] = Joint(_vec(shoulder), 0.8)
             out = [h for h in extended if h.side is side and h.in_view]
-            found = self._resting(seg, body, outwards)
+            found = self._resting(view, cells, body)
             if out and found is not None and found[2] and self._knee(out, found[0], body):
                 # A seated performer's knee sticks out like a hand; the hand rests on it or beside it:
                 # between the knee's depth and that of the outline beside it.
@@ -120,12 +122,12 @@ class SkeletonEstimator:
                 else:
                     position, confidence = self._hanging(body, outwards), 0.0
             joints[f"{name}_hand"] = Joint(_vec(position), confidence)
-            elbow = self._elbow(seg, body, shoulder, position, outwards)
+            elbow = self._elbow(view, shoulder, position)
             if elbow is not None:
                 joints[f"{name}_elbow"] = elbow
             hands.append(self._hand(side, position, confidence, is_out, at_border, torso))
-        points = np.stack([g.x[seg.mask], g.y[seg.mask], g.z[seg.mask]], axis=1)
-        mass = _vec(points.mean(axis=0)) if len(points) else None
+        g = view.grid
+        mass = tuple(float(c[view.mask].mean()) for c in (g.x, g.y, g.z))
         return Skeleton(joints, tuple(hands), mass)
 
     def lost(self) -> tuple[Hand, ...]:
@@ -150,18 +152,21 @@ class SkeletonEstimator:
                     round(float(confidence), 3), is_out)
 
     # -- measurements --------------------------------------------------------------------------
-    def _shoulder(self, seg: Segment, body: Body, outwards: float) -> np.ndarray:
+    def _side_view(self, view: _View, body: Body, outwards: float) -> _Side:
+        """One side's cells (beside the spine, not behind the trunk) and its outline's outer edge per row."""
+        out = outwards * view.dx
+        cells = view.near & (out > 40)
+        return _Side(out, cells, np.where(cells, out, -np.inf).max(axis=1))
+
+    def _shoulder(self, view: _View, side: _Side, body: Body, outwards: float) -> np.ndarray:
         """On the shoulder line, inside the outline's outer edge there (an arm raised beside the
         head widens the outline: the anatomical bounds keep the joint on the trunk)."""
-        o, g = self.options, seg.grid
-        tx = body.torso[0]
-        row = seg.mask & (np.abs(g.y - (body.shoulder_y - 60)) < 60) & (np.abs(body.surface_z - g.z) < 250)
+        o = self.options
         lo, hi = o.shoulder_half_width_mm
-        half = 0.5 * (lo + hi)
-        if row.any():
-            edge = float(np.percentile(outwards * (g.x[row] - tx), 95))
-            half = min(hi, max(lo, edge - o.shoulder_inside_edge_mm))
-        return np.array([tx + outwards * half, body.shoulder_y, body.surface_z + o.joint_depth_mm])
+        edge = side.edge[np.abs(view.rows_y - (body.shoulder_y - 60)) < 60]
+        edge = edge[np.isfinite(edge)]
+        half = min(hi, max(lo, float(np.median(edge)) - o.shoulder_inside_edge_mm)) if edge.size else 0.5 * (lo + hi)
+        return np.array([body.torso[0] + outwards * half, body.shoulder_y, body.surface_z + o.joint_depth_mm])
 
     def _knee(self, out: list[Hand], beside: np.ndarray, body: Body) -> bool:
         """An extended hand below the hips with a hand found beside the legs next to it (within a
@@ -170,41 +175,39 @@ class SkeletonEstimator:
         return all(h.position[1] < body.hip_y + o.knee_above_hips_mm
                    and np.linalg.norm(np.subtract(h.position, beside)) < o.upper_arm_mm[1] for h in out)
 
-    def _resting(self, seg: Segment, body: Body, outwards: float) -> tuple[np.ndarray, float, bool] | None:
+    def _resting(self, view: _View, side: _Side, body: Body) -> tuple[np.ndarray, float, bool] | None:
         """The hand at the lowest end of the arm beside the legs, else the lowest part of the user
         on this side held in front of the trunk's plane; None when the depth shows neither. The
         flag says whether it was found beside the legs."""
-        o, g = self.options, seg.grid
-        tx = body.torso[0]
-        out = outwards * (g.x - tx)
+        o, g, rows_y, edge = self.options, view.grid, view.rows_y, side.edge
         top = body.shoulder_y - o.forearm_below_shoulder_mm
-        side = seg.mask & (out > 40) & (g.z - body.surface_z < o.behind_mm)
-        rows_y = _row_heights(g.y, seg.mask)
+        bottom = body.shoulder_y - o.arm_length_mm
         # The legs' outer edge: the median over the thighs' rows, where legs are seen.
         legs_lo, legs_hi = body.hip_y - o.legs_below_hips_mm[1], body.hip_y - o.legs_below_hips_mm[0]
-        edge = np.where(side, out, -np.inf).max(axis=1)
         legs = edge[(rows_y > legs_lo) & (rows_y < legs_hi) & np.isfinite(edge)]
         legs_edge = float(np.median(legs)) if legs.size >= 3 else o.legs_half_width_mm
-        arm_rows = ((rows_y < top) & (rows_y > body.shoulder_y - o.arm_length_mm)
-                    & (edge > legs_edge + o.beside_legs_mm))
+        arm_rows = (rows_y < top) & (rows_y > bottom) & (edge > legs_edge + o.beside_legs_mm)
         beside = bool(arm_rows.any())
         if beside:
-            tip_row = self._fingertips(edge, np.flatnonzero(arm_rows))
-            tip = float(rows_y[tip_row])
-            palm = side & (g.y >= tip - 1) & (g.y <= tip + o.palm_height_mm) & (out >= edge[:, None] - o.palm_width_mm)
-            palm &= out > legs_edge  # the hand, not the thigh beside it
+            tip = float(rows_y[self._fingertips(edge, np.flatnonzero(arm_rows))])
+            band = _rows(rows_y, tip - 1, tip + o.palm_height_mm)
+            out = side.out[band]
+            palm = side.cells[band] & (out >= edge[band, None] - o.palm_width_mm) & (out > legs_edge)
         else:
             # Before the lower body: the lowest cells of this side in front of the trunk's plane.
-            front = (side & (body.surface_z - g.z > o.in_front_mm) & (g.y < top)
-                     & (g.y > body.shoulder_y - o.arm_length_mm))
+            band = _rows(rows_y, bottom, top)
+            front = side.cells[band] & (body.surface_z - g.z[band] > o.in_front_mm)
             if not front.any():
                 return None
-            tip = float(g.y[front].min())
-            palm = front & (g.y <= tip + o.palm_height_mm)
+            low = int(np.flatnonzero(front.any(axis=1))[-1])
+            band = _rows(rows_y, rows_y[band][low] - 1, rows_y[band][low] + o.palm_height_mm)
+            palm = side.cells[band] & (body.surface_z - g.z[band] > o.in_front_mm)
         if not palm.any():
             return None
-        position = np.array([g.x[palm].mean(), g.y[palm].mean(), np.percentile(g.z[palm], 20) + o.hand_depth_mm])
-        seen = float(g.pixel_area_mm2[palm].sum()) / (o.palm_area_m2 * 1e6)
+        z = g.z[band][palm]
+        near = np.partition(z, len(z) // 5)[len(z) // 5]  # the hand's front, not the thigh beside it
+        position = np.array([g.x[band][palm].mean(), g.y[band][palm].mean(), near + o.hand_depth_mm])
+        seen = float(g.pixel_area_mm2[band][palm].sum()) / (o.palm_area_m2 * 1e6)
         return position, min(o.resting_confidence, seen), beside
 
     def _fingertips(self, edge: np.ndarray, rows: np.ndarray) -> int:
@@ -226,22 +229,56 @@ class SkeletonEstimator:
         o = self.options
         return np.array([body.torso[0] + outwards * o.legs_half_width_mm * 1.4, body.hip_y, body.torso[2]])
 
-    def _elbow(self, seg: Segment, body: Body, shoulder: np.ndarray, hand: np.ndarray,
-               outwards: float) -> Joint | None:
+    def _elbow(self, view: _View, shoulder: np.ndarray, hand: np.ndarray) -> Joint | None:
         """The user's cell nearest the middle of shoulder and hand, if it is an upper arm from the
         shoulder and a forearm from the hand: the depth shows the arm there."""
-        o, g = self.options, seg.grid
+        o, g = self.options, view.grid
         middle = 0.5 * (shoulder + hand)
-        near = seg.mask & (np.abs(g.x - middle[0]) < 150) & (np.abs(g.y - middle[1]) < 150)
+        band = _rows(view.rows_y, middle[1] - 150, middle[1] + 150)
+        near = view.mask[band] & (np.abs(g.x[band] - middle[0]) < 150)
         if not near.any():
             return None
-        pts = np.stack([g.x[near], g.y[near], g.z[near]], axis=1)
+        pts = np.stack([g.x[band][near], g.y[band][near], g.z[band][near]], axis=1)
         cell = pts[int(np.argmin(np.linalg.norm(pts - middle, axis=1)))] + (0.0, 0.0, o.hand_depth_mm)
         lo, hi = o.upper_arm_mm
         upper, fore = np.linalg.norm(cell - shoulder), np.linalg.norm(cell - hand)
         if not (lo <= upper <= hi and lo <= fore <= hi):
             return None
         return Joint(_vec(cell), 0.5)
+
+
+@dataclass(frozen=True)
+class _View:
+    """One frame's user on its bounding box, with what both sides share."""
+
+    grid: Grid
+    mask: np.ndarray
+    dx: np.ndarray  # mm sideways from the spine (image right +)
+    near: np.ndarray  # user cells not behind the trunk's surface (no chair, no wall beside the user)
+    rows_y: np.ndarray  # each row's height (mm), NaN where the row has no user cell
+
+    @classmethod
+    def of(cls, seg: Segment, body: Body, behind_mm: float) -> "_View":
+        rows, cols = np.flatnonzero(seg.mask.any(axis=1)), np.flatnonzero(seg.mask.any(axis=0))
+        box = np.s_[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]
+        g = seg.grid
+        grid = Grid(g.z[box], g.x[box], g.y[box], g.pixel_area_mm2[box], g.cell_x, g.cell_y)
+        mask = seg.mask[box]
+        return cls(grid, mask, grid.x - body.torso[0], mask & (grid.z - body.surface_z < behind_mm),
+                   _row_heights(grid.y, mask))
+
+
+@dataclass(frozen=True)
+class _Side:
+    out: np.ndarray  # mm outwards from the spine on this side
+    cells: np.ndarray  # this side's cells of the view's `near`
+    edge: np.ndarray  # per row, the outermost of them (-inf: none)
+
+
+def _rows(rows_y: np.ndarray, low: float, high: float) -> slice:
+    """The rows whose height lies in [low, high] (rows go down as the index grows)."""
+    inside = np.flatnonzero((rows_y >= low) & (rows_y <= high))
+    return slice(int(inside[0]), int(inside[-1]) + 1) if inside.size else slice(0, 0)
 
 
 def _row_heights(y: np.ndarray, mask: np.ndarray) -> np.ndarray:
