@@ -53,7 +53,7 @@ class SkeletonOptions(BaseModel):
     hand_depth_mm: float = Field(40, ge=0, description="a resting hand's joint lies this far behind its surface")
     joint_depth_mm: float = Field(110, ge=0, description="shoulder and elbow joints lie this far behind the surface")
     shoulder_half_width_mm: tuple[float, float] = Field((140, 230), description=(
-        "the shoulder joint lies this far from the spine (at most, at least), inside the outline's edge"))
+        "the shoulder joint lies this far from the spine (at least, at most), inside the outline's edge"))
     shoulder_inside_edge_mm: float = Field(60, ge=0, description="the shoulder joint lies this far inside the outline")
     upper_arm_mm: tuple[float, float] = Field((200, 400), description=(
         "an elbow is this far from its shoulder; arm cells found elsewhere are not an elbow"))
