@@ -10,13 +10,21 @@ from tests.backends.oscin.helpers import body_at, hands_at, replay, write_sessio
 from tests.effects.osc.helpers import free_port
 
 
-def test_users_and_resting_hands_arrive_over_the_wire(serve, tmp_path):
-    frames = [hands_at(1, i) + (hands_at(2, i, 900.0) if i >= 10 else []) for i in range(40)]
-    bodies = [{**body_at(1), **(body_at(2, 900.0) if i >= 10 else {})} for i in range(40)]
+def duet(tmp_path) -> tuple:
+    """A duet as OSCeleton would send it (user 2 joins at frame 10) and an `issv serve` profile
+    whose osc-in listens for it: (session file, profile, osc-in's port)."""
+    frames = [hands_at(1, i) + (hands_at(2, i, 900.0) if i >= 10 else []) for i in range(45)]
+    bodies = [{**body_at(1), **(body_at(2, 900.0) if i >= 10 else {})} for i in range(45)]
     session = write_session(tmp_path / "duet.txt", frames, bodies=bodies)
-    osc_port, port = free_port(), free_ports()
+    osc_port = free_port()
     profile = tmp_path / "serve.toml"
     profile.write_text(f'[backend]\nname = "osc-in"\nport = {osc_port}\nend_after_idle_s = 1.5\n')
+    return session, profile, osc_port
+
+
+def test_users_and_resting_hands_arrive_over_the_wire(serve, tmp_path):
+    session, profile, osc_port = duet(tmp_path)
+    port = free_ports()
     serve(str(profile), "--bind", f"tcp://127.0.0.1:{port}")
     with NetworkBackend(None, NetworkOptions(connect=f"tcp://127.0.0.1:{port}", end_with_publisher=True,
                                              depth=False)) as backend:
