@@ -6,15 +6,23 @@ consumers ask for what they want with keep-alives; the client here behaves as th
 Python Synapse client (Eran Egozy's kinect.py, MIT 21M.385: not on PyPI): it listens on its port
 in body mode, the default, and sends `/<joint>_trackjointpos 1` for its joints every 3 s.
 """
+import socket
+import subprocess
+import sys
 import threading
 import time
 
 import pytest
 from pythonosc import dispatcher, osc_server, udp_client
 
+from backends.replay import ReplayBackend
 from effects.osc.osceleton import JOINTS, normalised
 from effects.osc.synapse import DETECTORS
-from host import HandState, Joint, User
+from host import HandState, Joint, Stage, User
+from host.loop import EffectSlot, Limits, Show
+from host.recording import Recording
+from tests.backends.network.test_users import duet as duet_session
+from tests.backends.oscin.helpers import env, replay
 from tests.effects.osc.helpers import body_at, free_port, make_osc, run_users
 
 OSCELETON_TAGS = {"/joint": "sifff", "/new_user": "i", "/new_skel": "i", "/lost_user": "i", "/user/2": "fff"}
@@ -164,3 +172,43 @@ def test_synapse_keepalive_option_is_checked():
         make_osc(scheme="synapse", keepalive="12346")
     with pytest.raises(ValueError, match='it needs scheme = "synapse"'):
         make_osc(scheme="osceleton", keepalive="off")
+
+
+def _listening(port: int) -> bool:
+    """Whether some process holds this UDP port (osc-in has bound it)."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        try:
+            s.bind(("0.0.0.0", port))
+        except OSError:
+            return True
+    return False
+
+
+def test_a_recorded_duet_plays_back_to_osceleton_with_its_users(tmp_path, receiver):
+    """`issv record` (osc-in fed a duet by `issv osc-replay`) in processes of their own; the
+    recording's users, replayed, make OSCeleton's user messages as the live show would."""
+    session, profile, osc_port = duet_session(tmp_path)
+    out = tmp_path / "duet.mcap"
+    record = subprocess.Popen([sys.executable, "-m", "host", "record", str(profile), "-o", str(out)],
+                              env=env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 30
+    while not _listening(osc_port) and record.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.05)
+    sender = replay(session, osc_port)
+    assert sender.wait(60) == 0, sender.stderr.read()
+    _, err = record.communicate(timeout=60)
+    assert record.returncode == 0, err
+    with Recording(out) as rec:
+        frames = list(rec.frames())
+    assert {tuple(sorted(u.id for u in f.users)) for f in frames} >= {(1,), (1, 2)}
+    assert all(u.joints["torso"].position == pytest.approx((900.0, 0.0, 2100.0), abs=0.01)
+               for f in frames for u in f.users if u.id == 2 and "torso" in u.joints)
+    backend = ReplayBackend(None, ReplayBackend.Options(path=str(out), realtime=False))
+    slots = [EffectSlot(make_osc(destinations=[receiver.address], scheme="osceleton"), "effects[0]")]
+    Show(backend, slots, Stage((1280, 720), 30.0, "replay"), limits=Limits()).run()
+    assert receiver.wait_for(lambda r: len(r.messages("/lost_user")) == 2)
+    events = [(a, args[0]) for a, _, args in receiver.messages() if a in ("/new_user", "/new_skel", "/lost_user")]
+    assert events[:4] == [("/new_user", 1), ("/new_skel", 1), ("/new_user", 2), ("/new_skel", 2)]
+    assert sorted(events[4:]) == [("/lost_user", 1), ("/lost_user", 2)]
+    torso = [args for a, _, args in receiver.messages("/joint") if args[:2] == ["torso", 2]]
+    assert torso and torso[0][2:] == pytest.approx(list(normalised((900.0, 0.0, 2100.0))), rel=1e-5)
