@@ -137,15 +137,16 @@ class Receiver(UdpInbox):
 
 
 class PureData:
-    """`pd -nogui` running patches/issv-receiver.pd, listening on `port`, echoing to `echo`."""
+    """`pd -nogui` running a patch (default patches/issv-receiver.pd), listening on `port`, echoing to `echo`."""
 
-    def __init__(self, echo: Receiver, patch: Path = PD_PATCH) -> None:
+    def __init__(self, echo: Receiver, patch: Path = PD_PATCH, sends: tuple[str, ...] = ()) -> None:
         if shutil.which("pd") is None:
             raise RuntimeError("Pure Data is not installed: apt-get install puredata-core (scripts/setup.sh does)")
         self.port = free_port()
         self.echo = echo
-        self.proc = subprocess.Popen(
-            pd_command(self.port, echo.port, patch), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        extra = [arg for text in sends for arg in ("-send", text)]  # more `pd -send` messages for the patch
+        self.proc = subprocess.Popen(pd_command(self.port, echo.port, patch) + extra, stdout=subprocess.DEVNULL,
+                                     stderr=subprocess.PIPE, text=True)
         if not echo.wait_for(lambda r: r.messages("/echo/ready"), timeout=10):
             self.close()
             raise RuntimeError(f"Pure Data did not start the patch: {self.stderr}")

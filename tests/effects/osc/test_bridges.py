@@ -11,6 +11,7 @@ import subprocess
 import sys
 import threading
 import time
+from pathlib import Path
 
 import pytest
 from pythonosc import dispatcher, osc_server, udp_client
@@ -23,7 +24,7 @@ from host.loop import EffectSlot, Limits, Show
 from host.recording import Recording
 from tests.backends.network.test_users import duet as duet_session
 from tests.backends.oscin.helpers import env, replay
-from tests.effects.osc.helpers import body_at, free_port, make_osc, run_users
+from tests.effects.osc.helpers import PureData, Receiver, body_at, free_port, make_osc, run_users
 
 OSCELETON_TAGS = {"/joint": "sifff", "/new_user": "i", "/new_skel": "i", "/lost_user": "i", "/user/2": "fff"}
 
@@ -212,3 +213,46 @@ def test_a_recorded_duet_plays_back_to_osceleton_with_its_users(tmp_path, receiv
     assert sorted(events[4:]) == [("/lost_user", 1), ("/lost_user", 2)]
     torso = [args for a, _, args in receiver.messages("/joint") if args[:2] == ["torso", 2]]
     assert torso and torso[0][2:] == pytest.approx(list(normalised((900.0, 0.0, 2100.0))), rel=1e-5)
+
+
+BRIDGES_PD = Path(__file__).with_name("bridges-echo.pd")
+
+
+@pytest.fixture
+def bridges_pd():
+    """Pure Data running bridges-echo.pd, asking the Synapse keep-alive port given by `start(port)`."""
+    started = []
+
+    def start(keepalive_port: int | None = None) -> PureData:
+        sends = (f"issv-synapse {keepalive_port}",) if keepalive_port else ()
+        pd = PureData(Receiver(), BRIDGES_PD, sends)
+        started.append(pd)
+        return pd
+
+    yield start
+    for pd in started:
+        pd.close()
+        pd.echo.close()
+
+
+def test_a_pd_patch_for_osceleton_parses_every_message(bridges_pd, receiver):
+    pd = bridges_pd()
+    run_users([make_osc(destinations=[pd.address, receiver.address], scheme="osceleton")], duet, 30)
+    assert receiver.wait_for(lambda r: r.messages("/lost_user"))
+    sent = [m for m in receiver.messages() if m[0] in ("/joint", "/new_user", "/new_skel", "/lost_user")]
+    assert pd.echo.wait_for(lambda r: len(r.messages()) == len(sent) + 1)  # and /echo/ready
+    for (address, _, args), (echoed, tags, back) in zip(sent, pd.echo.messages()[1:]):
+        assert echoed == "/echo" + address
+        assert back == pytest.approx(args, rel=1e-7)  # ids come back as Pd floats, positions as sent
+    assert "error" not in pd.close()
+
+
+def test_a_pd_patch_for_synapse_keeps_body_positions_coming(bridges_pd):
+    port = free_port()
+    pd = bridges_pd(port)
+    effect = make_osc(destinations=[pd.address], scheme="synapse", keepalive=f"127.0.0.1:{port}")
+    run_users([effect], lambda i: (User(1, HandState.TRACKING, body_at(0, i)),), 180)  # 6 s: past 3.1 s
+    assert pd.echo.wait_for(lambda r: len(r.messages("/echo/righthand_pos_body")) >= 100)
+    assert pd.echo.messages("/echo/tracking_skeleton") == [("/echo/tracking_skeleton", "f", [1.0])]
+    assert {tuple(m[2]) for m in pd.echo.messages("/echo/righthand_pos_body")} == {(320.0, -200.0, -20.0)}
+    assert "error" not in pd.close()
