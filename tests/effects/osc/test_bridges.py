@@ -6,6 +6,7 @@ consumers ask for what they want with keep-alives; the client here behaves as th
 Python Synapse client (Eran Egozy's kinect.py, MIT 21M.385: not on PyPI): it listens on its port
 in body mode, the default, and sends `/<joint>_trackjointpos 1` for its joints every 3 s.
 """
+import re
 import socket
 import subprocess
 import sys
@@ -17,8 +18,8 @@ import pytest
 from pythonosc import dispatcher, osc_server, udp_client
 
 from backends.replay import ReplayBackend
-from effects.osc.osceleton import JOINTS, normalised
-from effects.osc.synapse import DETECTORS
+from effects.osc.osceleton import JOINTS, OSCELETON_TEXT, normalised
+from effects.osc.synapse import DETECTORS, SYNAPSE_TEXT
 from host import HandState, Joint, Stage, User
 from host.loop import EffectSlot, Limits, Show
 from host.recording import Recording
@@ -26,7 +27,12 @@ from tests.backends.network.test_users import duet as duet_session
 from tests.backends.oscin.helpers import env, replay
 from tests.effects.osc.helpers import PureData, Receiver, body_at, free_port, make_osc, run_users
 
-OSCELETON_TAGS = {"/joint": "sifff", "/new_user": "i", "/new_skel": "i", "/lost_user": "i", "/user/2": "fff"}
+def documented(text: str) -> dict[str, str]:
+    """The address -> type tags table of a preset's text (what `issv osc-schema NAME` prints)."""
+    return {a: t.replace(" ", "") for a, t in re.findall(r"^  (/\S+)\s+((?:[ifs] )*[ifs])\s\s", text, re.M)}
+
+
+OSCELETON_TAGS = {a.replace("<id>", "2"): t for a, t in documented(OSCELETON_TEXT).items()}
 
 
 def duet(i: int) -> tuple[User, ...]:
@@ -58,6 +64,7 @@ def test_osceleton_users_type_tags_through_oscdump(oscdump, receiver):
     assert messages.index(("/new_skel", "i", [2])) < first_joint_2
     names = [args[0] for a, _, args in messages if a == "/joint" and args[1] == 1]
     every = [name for _, name in JOINTS if name not in ("l_knee", "l_foot", "r_knee", "r_foot")]
+    assert " ".join(name for _, name in JOINTS) in " ".join(OSCELETON_TEXT.split())  # documented, in order
     assert names[:len(every)] == every  # OSCeleton's names, in its order
     assert "l_elbow" not in [args[0] for a, _, args in messages if a == "/joint" and args[1] == 2]  # < 0.5
     assert len(names) == len(every) * 20  # every frame of user 1's, resting hand or not
@@ -166,6 +173,12 @@ def test_synapse_keepalive_off_sends_every_joint_in_every_space(receiver):
                 for space in ("world", "body", "screen") if space != "body" or ref in body_at(0, 0)]
     bundle = [m[0] for m in receiver.packets[0].messages]
     assert bundle == ["/tracking_skeleton"] + expected  # Synapse's order: detectors, then world, body, screen
+    tags = documented(SYNAPSE_TEXT)
+    for address, types, _ in receiver.packets[0].messages:
+        joint, _, space = address[1:].rpartition("_pos_")
+        assert types == tags[f"/<joint>_pos_{space}" if joint else address]
+    listed = " ".join(SYNAPSE_TEXT.split("joint  ")[1].split("(Synapse's order")[0].split())
+    assert listed == " ".join(name for name, _, _ in DETECTORS)
 
 
 def test_synapse_keepalive_option_is_checked():
