@@ -254,7 +254,12 @@ class UsersBackend(Backend):
 
 def run_users(effects, users: Callable[[int], tuple[User, ...]], n: int) -> Show:
     """One show on the real loop with frames that carry users, at 30 frames a second."""
+    return run_show_with(UsersBackend(users, n), effects)
+
+
+def run_show_with(backend: Backend, effects) -> Show:
+    """One show on the real loop: this backend's frames to these effects."""
     slots = [EffectSlot(e, f"effects[{k}]") for k, e in enumerate(effects)]
-    show = Show(UsersBackend(users, n), slots, Stage((1280, 720), FPS, "scripted-users"), limits=Limits())
+    show = Show(backend, slots, Stage((1280, 720), FPS, backend.name), limits=Limits())
     show.run()
     return show

@@ -20,12 +20,11 @@ from pythonosc import dispatcher, osc_server, udp_client
 from backends.replay import ReplayBackend
 from effects.osc.osceleton import JOINTS, OSCELETON_TEXT, normalised
 from effects.osc.synapse import DETECTORS, SYNAPSE_TEXT
-from host import HandState, Joint, Stage, User
-from host.loop import EffectSlot, Limits, Show
+from host import HandState, Joint, User
 from host.recording import Recording
 from tests.backends.network.test_users import duet as duet_session
 from tests.backends.oscin.helpers import env, replay
-from tests.effects.osc.helpers import PureData, Receiver, body_at, free_port, make_osc, run_users
+from tests.effects.osc.helpers import PureData, Receiver, body_at, free_port, make_osc, run_show_with, run_users
 
 def documented(text: str) -> dict[str, str]:
     """The address -> type tags table of a preset's text (what `issv osc-schema NAME` prints)."""
@@ -218,8 +217,7 @@ def test_a_recorded_duet_plays_back_to_osceleton_with_its_users(tmp_path, receiv
     assert all(u.joints["torso"].position == pytest.approx((900.0, 0.0, 2100.0), abs=0.01)
                for f in frames for u in f.users if u.id == 2 and "torso" in u.joints)
     backend = ReplayBackend(None, ReplayBackend.Options(path=str(out), realtime=False))
-    slots = [EffectSlot(make_osc(destinations=[receiver.address], scheme="osceleton"), "effects[0]")]
-    Show(backend, slots, Stage((1280, 720), 30.0, "replay"), limits=Limits()).run()
+    run_show_with(backend, [make_osc(destinations=[receiver.address], scheme="osceleton")])
     assert receiver.wait_for(lambda r: len(r.messages("/lost_user")) == 2)
     events = [(a, args[0]) for a, _, args in receiver.messages() if a in ("/new_user", "/new_skel", "/lost_user")]
     assert events[:4] == [("/new_user", 1), ("/new_skel", 1), ("/new_user", 2), ("/new_skel", 2)]
