@@ -53,8 +53,9 @@ class OscOptions(BaseModel):
     rate: float = Field(0.0, ge=0)  # at most this many hand bundles per second; 0: every frame
     pd_safe: bool = True  # only i, f, s types (Pd 0.53's oscparse rejects T, F, N, h, d)
     messages: list[Template] = []
-    #: synapse: where clients' /<joint>_trackjointpos requests are taken ("off": send every position)
-    keepalive: str = "0.0.0.0:12346"
+    keepalive: str = Field("0.0.0.0:12346", description="scheme synapse only: HOST:PORT where clients' "
+                           "/<joint>_trackjointpos keep-alives arrive (Synapse's 12346); \"off\": send every "
+                           "joint's positions in every space, unasked")
 
     @field_validator("destinations", mode="before")
     @classmethod
