@@ -267,3 +267,28 @@ def test_a_pd_patch_for_synapse_keeps_body_positions_coming(bridges_pd):
     assert pd.echo.messages("/echo/tracking_skeleton") == [("/echo/tracking_skeleton", "f", [1.0])]
     assert {tuple(m[2]) for m in pd.echo.messages("/echo/righthand_pos_body")} == {(320.0, -200.0, -20.0)}
     assert "error" not in pd.close()
+
+
+def test_issv_run_a_synthetic_handover_to_osceleton_and_synapse(tmp_path, oscdump, receiver):
+    """The product path: `issv run --headless` of a profile (synthetic handover scene, truth
+    backend) with both presets; oscdump reads OSCeleton's, a socket Synapse's (keepalive off)."""
+    profile = tmp_path / "handover.toml"
+    profile.write_text(f'[source]\nname = "synthetic"\nscene = "handover"\nwidth = 320\nheight = 240\n'
+                       f'[backend]\nname = "truth"\n'
+                       f'[[effects]]\nname = "osc"\nscheme = "osceleton"\ndestinations = ["{oscdump.address}"]\n'
+                       f'[[effects]]\nname = "osc"\nscheme = "synapse"\nkeepalive = "off"\n'
+                       f'destinations = ["{receiver.address}"]\n')
+    run = subprocess.run([sys.executable, "-m", "host", "run", str(profile), "--headless", "--fast", "--size",
+                          "320x240", "--no-reload", "--seconds", "12"], env=env(), capture_output=True, text=True,
+                         timeout=300)
+    assert run.returncode == 0, run.stderr
+    lines = oscdump.stop(until=lambda lines: sum(line[1] == "/lost_user" for line in lines) >= 1)
+    assert all(line[2] == OSCELETON_TAGS[line[1]] for line in lines if line[1] in OSCELETON_TAGS)
+    events = [(line[1], int(line[3])) for line in lines if line[1] in ("/new_user", "/new_skel", "/lost_user")]
+    users = {u for _, u in events}
+    assert len(users) == 2 and ("/lost_user", min(users)) in events  # one leaves while the other enters
+    for user in users:
+        mine = [e for e, u in events if u == user]
+        assert mine[:2] == ["/new_user", "/new_skel"] and mine.count("/new_user") == mine.count("/new_skel")
+    assert receiver.messages("/tracking_skeleton")[0] == ("/tracking_skeleton", "i", [1])
+    assert receiver.messages("/righthand_pos_body") and receiver.messages("/head_pos_body")
