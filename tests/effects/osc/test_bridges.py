@@ -180,13 +180,6 @@ def test_synapse_keepalive_off_sends_every_joint_in_every_space(receiver):
     assert listed == " ".join(name for name, _, _ in DETECTORS)
 
 
-def test_synapse_keepalive_option_is_checked():
-    with pytest.raises(ValueError, match='keepalive: expected HOST:PORT .*, or "off"'):
-        make_osc(scheme="synapse", keepalive="12346")
-    with pytest.raises(ValueError, match='it needs scheme = "synapse"'):
-        make_osc(scheme="osceleton", keepalive="off")
-
-
 def _listening(port: int) -> bool:
     """Whether some process holds this UDP port (osc-in has bound it)."""
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:

@@ -101,6 +101,8 @@ def test_templates_add_to_a_scheme_and_pd_safe_converts_them(receiver):
     ('gestures = ["jump"]', "effects[0].gestures[0]"),
     ('[[effects.messages]]\non = "hand"\naddress = "/h"\nargs = ["{nme}"]', "unknown field {nme} for on = 'hand'"),
     ('[[effects.messages]]\non = "frame"\naddress = "h/{seq}"', "address must start with /"),
+    ('scheme = "synapse"\nkeepalive = "12346"', 'keepalive: expected HOST:PORT such as 127.0.0.1:9000, or "off"'),
+    ('scheme = "osceleton"\nkeepalive = "off"', 'keepalive is Synapse\'s keep-alive port: it needs scheme = "synapse"'),
 ])
 def test_bad_options_name_the_key(effect, message):
     text = f'backend = "truth"\n[[effects]]\nname = "osc"\n{effect}\n'
