@@ -17,6 +17,7 @@ from pathlib import Path
 import pytest
 from pythonosc import dispatcher, osc_server, udp_client
 
+from backends.oscin.backend import OscInBackend, OscInOptions
 from backends.replay import ReplayBackend
 from effects.osc.osceleton import JOINTS, OSCELETON_TEXT, normalised
 from effects.osc.synapse import DETECTORS, SYNAPSE_TEXT
@@ -285,3 +286,29 @@ def test_issv_run_a_synthetic_handover_to_osceleton_and_synapse(tmp_path, oscdum
         assert mine[:2] == ["/new_user", "/new_skel"] and mine.count("/new_user") == mine.count("/new_skel")
     assert receiver.messages("/tracking_skeleton")[0] == ("/tracking_skeleton", "i", [1])
     assert receiver.messages("/righthand_pos_body") and receiver.messages("/head_pos_body")
+
+
+def test_the_synapse_preset_feeds_osc_in_which_asks_with_keepalives():
+    """issv's own Synapse reader (osc-in, scheme synapse) as the consumer: it asks for world
+    positions with `/<joint>_trackjointpos 2` every few seconds and rebuilds the user from them."""
+    keepalive = free_port()
+    backend = OscInBackend(None, OscInOptions(port=0, scheme="synapse", synapse_port=keepalive, end_after_idle_s=3.0),
+                           warn=lambda text: None)
+    frames = []
+
+    def collect() -> None:
+        with backend as b:
+            frames.extend(iter(b.update, None))
+
+    reader = threading.Thread(target=collect, daemon=True)
+    reader.start()
+    deadline = time.monotonic() + 10
+    while getattr(backend, "port", None) is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    effect = make_osc(destinations=[f"127.0.0.1:{backend.port}"], scheme="synapse", keepalive=f"127.0.0.1:{keepalive}")
+    run_users([effect], lambda i: (User(1, HandState.TRACKING, body_at(-100, i)),), 60)
+    reader.join(timeout=20)
+    bodies = [u for f in frames for u in f.users if len(u.joints) >= 8]
+    assert len(bodies) >= 30
+    for joint in ("right_hand", "left_elbow", "head", "torso"):
+        assert bodies[-1].joints[joint].position == pytest.approx(body_at(-100, 0)[joint].position, abs=0.01)
