@@ -11,13 +11,13 @@ import sys
 from typing import ClassVar, Mapping
 
 import numpy as np
-from pydantic import Field
 
-from backends.engine.engine import Engine, EngineFrame, EngineOptions
+from backends.engine.engine import Engine, EngineOptions
 from backends.engine.geometry import KINECT_V1, to_geometry
 from backends.engine.recognizer import NITE_DICTIONARY, NUITRACK_DICTIONARY, GestureRecognizer
-from backends.engine.sides import RestingHands
+from backends.engine.sides import nuitrack_id, renamed_gesture, renamed_hand, user_hand_id
 from host import Backend, Frame, Gesture, GestureState, GestureType, Hand, HandState
+
 
 __all__ = ["Engine", "EngineBackend", "EngineOptions"]
 
@@ -44,8 +44,8 @@ class EngineBackend(Backend):
     geometry: ClassVar[tuple | None] = None
     #: what the backend says about itself when it starts (None: nothing to say).
     note: ClassVar[str | None] = None
-    #: a left and a right hand whenever a user is in view, resting ones where they hang (Nuitrack's way).
-    both_hands: ClassVar[bool] = False
+    #: Nuitrack's hand ids (left 1, right 2) rather than the engine's (10 * user + 1 or + 2).
+    nuitrack_ids: ClassVar[bool] = False
 
     @classmethod
     def recognizer(cls, options: EngineOptions | None = None) -> GestureRecognizer:
@@ -65,14 +65,7 @@ class EngineBackend(Backend):
         self._seq = 0
         self._focused: set[int] = set()
         self._shown: set[int] = set()
-        self._sides: dict[int, RestingHands] = {}  # per user, in Nuitrack mode
-
-    def _resting(self, user: int) -> RestingHands:
-        if user not in self._sides:
-            rules, o = self.options.gestures, self.options
-            self._sides[user] = RestingHands(rules.rest_below_torso_mm, rules.rest_in_front_of_torso_mm,
-                                             o.hands.shoulder_half_width_mm, o.lost_timeout_s, user)
-        return self._sides[user]
+        self._ids = nuitrack_id if self.nuitrack_ids else user_hand_id
 
     def update(self) -> Frame | None:
         depth = self.source.read()
@@ -81,26 +74,14 @@ class EngineBackend(Backend):
         if self.geometry is not None:
             depth = to_geometry(depth, *self.geometry)
         result = self.engine.step(depth)
+        gestures = self._named(result.gestures)
         hands: tuple[Hand, ...] = ()
-        if self.tracking_hands:
-            hands = self._reported_hands(result.hands, result.gestures)
-            if self.both_hands:
-                hands = self._both_hands(result, hands, depth.timestamp, depth.mirrored)
+        if self.tracking_hands:  # both hands of every user (skeleton.py), resting ones included
+            hands = self._reported_hands(tuple(renamed_hand(h, self._ids) for h in result.user_hands), gestures)
         self._seq += 1
         return Frame(self._seq, depth.capture_time, depth, hands,
-                     self._named(result.gestures) if self.detecting_gestures else (), self.name,
+                     tuple(gestures) if self.detecting_gestures else (), self.name,
                      users=result.users, make_user_labels=lambda: result.user_labels(depth))
-
-    def _both_hands(self, result: EngineFrame, hands: tuple[Hand, ...], t: float, mirrored: bool) -> tuple[Hand, ...]:
-        """Nuitrack mode: each user's left and right hand while the user is in view."""
-        out: list[Hand] = []
-        for user in sorted(set(self._sides) | set(result.results)):
-            tracked = result.results.get(user)
-            body = tracked.body if tracked is not None else {}
-            out += self._resting(user).present(t, tuple(h for h in hands if h.user_id == user), body, mirrored)
-            if tracked is None and not self._sides[user].reporting:
-                del self._sides[user]
-        return tuple(out)
 
     def finish(self) -> tuple[Gesture, ...]:
         """The source ended: the recogniser's swipes still waiting to be confirmed complete."""
@@ -109,13 +90,12 @@ class EngineBackend(Backend):
         return self._named(self.engine.finish())
 
     def _named(self, gestures) -> tuple[Gesture, ...]:
-        """The gestures, naming their hands as this mode's hands are named (Nuitrack: by side)."""
-        if not self.both_hands:
-            return tuple(gestures)
-        return tuple(self._resting(g.user_id).gesture(g) for g in gestures)
+        """The gestures, naming their hands as the reported hands are named (by side)."""
+        return tuple(renamed_gesture(g, self._ids) for g in gestures)
 
-    def _reported_hands(self, hands: tuple[Hand, ...], gestures: list[Gesture]) -> tuple[Hand, ...]:
-        """All hands, or (focus mode) only those that made a focus gesture, NEW from that frame on."""
+    def _reported_hands(self, hands: tuple[Hand, ...], gestures: tuple[Gesture, ...]) -> tuple[Hand, ...]:
+        """All hands, or (focus mode) only those that made a focus gesture, NEW from that frame on
+        and kept while the user is in view (a focused hand dropping to rest is not lost)."""
         if not self.focus_gestures:
             return hands
         for g in gestures:
@@ -183,8 +163,8 @@ class OpenISSNuitrackBackend(EngineBackend):
 
     name = "openiss-nuitrack"
     dictionary = NUITRACK_DICTIONARY
-    both_hands = True
+    nuitrack_ids = True
     #: what runs in place of the middleware (the SDK adapter says it too when it falls back)
     engine_mode = ("the open engine in Nuitrack mode (six gestures; a left and a right hand while a user is "
-                   "in view, resting ones with confidence 0)")
+                   "in view, resting ones where the depth shows them hang)")
     note = f"Nuitrack runtime not used: running {engine_mode}"

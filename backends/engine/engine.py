@@ -55,7 +55,7 @@ class EngineFrame:
     hands: tuple[Hand, ...]  # the extended hands the recognisers follow
     results: Mapping[int, TrackResult]  # user id -> that user's tracking (seen or hidden users)
     seen: frozenset[int] = frozenset()  # ids of the hands found in this frame
-    user_hands: tuple[Hand, ...] = ()  # every user's both hands, when their skeleton gives them
+    user_hands: tuple[Hand, ...] = ()  # both hands of every user (skeleton.py), resting ones included
     gestures: tuple[Gesture, ...] = ()
     #: the users seen now as (user id, TrackResult), farthest first: the label image's drawing order
     drawn: list = field(default_factory=list, repr=False)
@@ -116,10 +116,11 @@ class Engine:
         for person in people:
             pipeline = self.pipelines.get(person.id)
             if pipeline is None:
-                pipeline = self.pipelines[person.id] = self._pipeline()
+                pipeline = self.pipelines[person.id] = self._pipeline(person.id)
             if person.state is HandState.LOST:
                 ended.append((person.id, self.pipelines.pop(person.id)))
                 hands += [replace(h, user_id=person.id) for h in pipeline.tracker.drop_all()]
+                both += pipeline.tracker.skeleton.lost()
                 if pipeline.user is not None:
                     users.append(replace(pipeline.user, state=HandState.LOST))
                 continue
@@ -130,7 +131,7 @@ class Engine:
                 result = replace(result, mask=segment.mask, grid_z=segment.grid.z)
             results[person.id] = result
             hands += [replace(h, user_id=person.id) for h in result.hands]
-            both += [replace(h, user_id=person.id) for h in result.user_hands]
+            both += result.user_hands  # the skeleton names them by its user
             seen |= result.seen
             user = self._user(person.id, box, result, pipeline, t)
             if user is not None:
@@ -158,8 +159,8 @@ class Engine:
             return segment
         return Segment(mask[box], Grid(g.z[box], g.x[box], g.y[box], g.pixel_area_mm2[box], g.cell_x, g.cell_y))
 
-    def _pipeline(self) -> _Pipeline:
-        return _Pipeline(HandTracker(self.options, self._hand_ids),
+    def _pipeline(self, uid: int) -> _Pipeline:
+        return _Pipeline(HandTracker(self.options, self._hand_ids, uid),
                          GestureRecognizer(self.options.gestures, self.dictionary))
 
     def _user(self, uid: int, segment: Segment | None, result: TrackResult, pipeline: _Pipeline,

@@ -23,6 +23,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from backends.engine.assignment import best_assignment
 from backends.engine.hands import Candidate, HandDetector, HandOptions
 from backends.engine.segmentation import Segment, SegmentationOptions, Segmenter
+from backends.engine.skeleton import SkeletonEstimator, SkeletonOptions
 from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
 from backends.engine.trunk import BodyEstimator, BodyOptions
 from host import DepthFrame, Hand, HandState, Joint, Side, Vec3
@@ -57,6 +58,7 @@ class TrackerOptions(BaseModel):
     segmentation: SegmentationOptions = SegmentationOptions()
     body: BodyOptions = BodyOptions()
     hands: HandOptions = HandOptions()
+    skeleton: SkeletonOptions = SkeletonOptions()
 
 
 @dataclass(frozen=True)
@@ -106,12 +108,16 @@ def _vec(a: np.ndarray) -> Vec3:
 
 
 class HandTracker:
-    def __init__(self, options: TrackerOptions | None = None, ids: Iterator[int] | None = None) -> None:
-        """`ids`: where hand ids come from (the engine's users share one count: ids stay unique)."""
+    def __init__(self, options: TrackerOptions | None = None, ids: Iterator[int] | None = None,
+                 user_id: int = 1) -> None:
+        """`ids`: where hand ids come from (the engine's users share one count: ids stay unique);
+        `user_id`: whose skeleton this is (its hands' ids are that user's)."""
         self.options = options or TrackerOptions()
         self.segmenter = Segmenter(self.options.segmentation)
         self.body_estimator = BodyEstimator(self.options.body, self.options.body_smoothing)
         self.detector = HandDetector(self.options.hands)
+        self.skeleton = SkeletonEstimator(self.options.skeleton, user_id)
+        self._user_seen: float | None = None
         self._tracks: list[_Track] = []
         self._ids = ids if ids is not None else count(1)
 
@@ -125,12 +131,16 @@ class HandTracker:
         if body is None:
             self.body_estimator.reset()
             hands = self._update_tracks(t, [], None, mirrored)
-            return TrackResult(hands, {})
+            gone = self._user_seen is not None and t - self._user_seen > self.options.lost_timeout_s
+            return TrackResult(hands, {}, user_hands=self.skeleton.lost() if gone else ())
+        self._user_seen = t
         candidates = self.detector.detect(seg, body)
         hands = self._update_tracks(t, candidates, body.torso, mirrored)
         points = {"torso": _vec(body.torso), "head": _vec(body.head)}
         seen = frozenset(track.id for track in self._tracks if track.seen == t)
-        return TrackResult(hands, points, seen, seg.mask, seg.grid.z)
+        skeleton = self.skeleton.estimate(seg, body, hands, mirrored)
+        return TrackResult(hands, points, seen, seg.mask, seg.grid.z, skeleton.joints, skeleton.center_of_mass,
+                           skeleton.hands)
 
     # -- tracks ------------------------------------------------------------------------------
     def _update_tracks(self, t: float, found: list[Candidate], torso: np.ndarray | None,
