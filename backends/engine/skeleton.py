@@ -3,12 +3,14 @@
 The body frame (trunk.py) gives the spine, the shoulder line and the head; the hand tracker gives
 the hands that stick out of the body. What is left is the hand at rest, and it is measured, not
 placed: a hanging arm is the outermost part of the silhouette on its side below the elbow, out
-beyond the thighs, so its lowest row still wider than the legs (by `beside_legs_mm`) is where the
-fingers end and the hand is the outer part of the few rows above. A hand held in front of the
-lower body (hands clasped, hands on the knees of a seated performer) is the lowest part of the
-user on its side standing out of the trunk's plane. A side where neither shows keeps its hand
-where it was last seen relative to the torso, with confidence 0. Elbows are reported where the
-depth has the arm between shoulder and hand; otherwise they are left out.
+beyond the thighs (by `beside_legs_mm`); going down it, the fingers end where the outline steps
+in (or where it is no wider than the legs), and the hand is the outer part of the rows just above.
+A hand held in front of the lower body (hands clasped) is the lowest part of the user on its side
+standing out of the trunk's plane. A seated performer's knee sticks out like a hand: an extended
+hand below the hips with a hand found beside the legs next to it is the knee, and the hand rests
+there. A side where nothing shows keeps its hand where it was last seen relative to the torso,
+with confidence 0. Elbows are reported where the depth has the arm between shoulder and hand;
+otherwise they are left out.
 
 Each side's hand has one id for as long as the user is in view (`hand_id(user, side)` of
 backends/users.py), so a hand that comes down and goes up again stays the same hand; `extended`
@@ -97,30 +99,10 @@ class SkeletonEstimator:
         for side in (Side.LEFT, Side.RIGHT):
             outwards = 1.0 if (side is Side.RIGHT) == mirrored else -1.0  # image right is +x
             name = side.value
-            cells = self._side_view(view, body, outwards)
+            cells = self._side_view(view, outwards)
             shoulder = self._shoulder(view, cells, body, outwards)
             joints[f"{name}_shoulder"] = Joint(_vec(shoulder), 0.8)
-            out = [h for h in extended if h.side is side and h.in_view]
-            found = self._resting(view, cells, body)
-            if out and found is not None and found[2] and self._knee(out, found[0], body):
-                # A seated performer's knee sticks out like a hand; the hand rests on it or beside it:
-                # between the knee's depth and that of the outline beside it.
-                knee_z = min(h.position[2] for h in out)
-                found = (np.array([found[0][0], found[0][1], 0.5 * (found[0][2] + knee_z)]), *found[1:])
-                out = []
-            if out:
-                hand = max(out, key=lambda h: h.confidence)
-                position, confidence, is_out = np.asarray(hand.position), hand.confidence, True
-                at_border = hand.state is HandState.TOUCHING_FOV
-            else:
-                is_out, at_border = False, False
-                state = self._sides[side]
-                if found is not None:
-                    position, confidence = found[:2]
-                elif state.offset is not None:
-                    position, confidence = torso + state.offset, 0.0
-                else:
-                    position, confidence = self._hanging(body, outwards), 0.0
+            position, confidence, is_out, at_border = self._side_hand(view, cells, body, side, outwards, extended)
             joints[f"{name}_hand"] = Joint(_vec(position), confidence)
             elbow = self._elbow(view, shoulder, position)
             if elbow is not None:
@@ -129,6 +111,24 @@ class SkeletonEstimator:
         g = view.grid
         mass = tuple(float(c[view.mask].mean()) for c in (g.x, g.y, g.z))
         return Skeleton(joints, tuple(hands), mass)
+
+    def _side_hand(self, view: _View, cells: _Side, body: Body, side: Side, outwards: float,
+                   extended: tuple[Hand, ...]) -> tuple[np.ndarray, float, bool, bool]:
+        """This side's hand: (position, confidence, extended, touching the image's border)."""
+        out = [h for h in extended if h.side is side and h.in_view]
+        found = self._resting(view, cells, body)
+        if out and found is not None and found[2] and self._knee(out, found[0], body):
+            # The hand rests on the knee or beside it: between the knee's depth and the outline's.
+            knee_z = min(h.position[2] for h in out)
+            found = (np.array([found[0][0], found[0][1], 0.5 * (found[0][2] + knee_z)]), *found[1:])
+            out = []
+        if out:
+            hand = max(out, key=lambda h: h.confidence)
+            return np.asarray(hand.position), hand.confidence, True, hand.state is HandState.TOUCHING_FOV
+        if found is not None:
+            return found[0], found[1], False, False
+        last = self._sides[side].offset
+        return (body.torso + last if last is not None else self._hanging(body, outwards)), 0.0, False, False
 
     def lost(self) -> tuple[Hand, ...]:
         """The user is gone: both hands LOST once, where they were last seen; ids stay for a return."""
@@ -152,7 +152,7 @@ class SkeletonEstimator:
                     round(float(confidence), 3), is_out)
 
     # -- measurements --------------------------------------------------------------------------
-    def _side_view(self, view: _View, body: Body, outwards: float) -> _Side:
+    def _side_view(self, view: _View, outwards: float) -> _Side:
         """One side's cells (beside the spine, not behind the trunk) and its outline's outer edge per row."""
         out = outwards * view.dx
         cells = view.near & (out > 40)
