@@ -123,12 +123,18 @@ def test_the_label_image_gives_each_user_their_pixels(crossing):
     assert (labels > 0).sum() < 0.5 * labels.size  # the room is nobody
 
 
-def test_nuitrack_mode_gives_each_user_a_left_and_a_right_hand(crossing):
+def test_nuitrack_mode_numbers_each_users_hands_as_the_adapter_does(gesturing):
     """As the Nuitrack adapter numbers them: user n's hands are 2n - 1 (left) and 2n (right)."""
-    frame = last_frame(OpenISSNuitrackBackend, crossing[:10])
-    assert sorted(u.id for u in frame.users) == [1, 2]
-    assert sorted((h.user_id, h.id, h.side) for h in frame.hands) == [
-        (1, 1, Side.LEFT), (1, 2, Side.RIGHT), (2, 3, Side.LEFT), (2, 4, Side.RIGHT)]
+    backend = OpenISSNuitrackBackend(Played(gesturing))
+    backend.init()
+    backend.start_hand_tracking()
+    seen, ids = set(), {}
+    while (frame := backend.update()) is not None:
+        seen |= {(h.user_id, h.id, h.side) for h in frame.hands}
+        ids = ids or who_is_who(frame.depth, frame)
+    waver, raiser = ids[1], ids[2]
+    assert (waver, 2 * waver, Side.RIGHT) in seen and (raiser, 2 * raiser - 1, Side.LEFT) in seen
+    assert all(hid == 2 * (user - 1) + (1 if side is Side.LEFT else 2) for user, hid, side in seen), seen
 
 
 # -- the people tracker alone ---------------------------------------------------------------
