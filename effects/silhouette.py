@@ -1,37 +1,58 @@
-"""`silhouette`: the performer's pixels in one colour, drawn where the stage puts them.
+"""`silhouette`: the performers' pixels, each in their user's colour, drawn where the stage puts them.
 
-Uses the backend's user mask (`Frame.user_mask`) when it has one, else every pixel whose depth
-lies in the band near_mm..far_mm (the performer standing in front of an empty stage).
+Uses the backend's user labels (`Frame.user_labels`: one image, each pixel its user's id) when it
+has them, else its user mask (`Frame.user_mask`, every performer in `color`), else every pixel
+whose depth lies in the band near_mm..far_mm (the performer standing in front of an empty stage).
+Whichever it is, one texture per sensor frame is uploaded and the colour is looked up in the
+shader, so two dancers cost what one does.
 """
 from __future__ import annotations
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from effects.gl import DepthQuad
-from host import Effect, Stage
+from host import USER_COLOURS, Effect, Stage
 from host.options import Color
 
 FRAGMENT = """
 #version 330
-uniform sampler2D image;   // the user mask (1 = performer), or depth in metres (0 = no reading)
+#define LABELS 0
+#define MASK 1
+#define DEPTH 2
+uniform sampler2D image;   // user labels (r * 255 = user id), the user mask (1 = performer), or depth in metres
 uniform float near;        // depth band, metres: used when the image is depth
 uniform float far;
+uniform bool by_user;      // labels: each user in palette[(id - 1) % N], else all in tint
+uniform vec3 palette[PALETTE_SIZE];
 uniform vec3 tint;
 uniform float alpha;
 in vec2 uv;
 out vec4 color;
 void main() {
     float v = texture(image, uv).r;
-    float inside = MASK ? step(0.5, v) : float(v >= near && v <= far);
+    vec3 rgb = tint;
+    float inside;
+    if (KIND == LABELS) {
+        int id = int(v * 255.0 + 0.5);
+        inside = float(id > 0);
+        if (by_user && id > 0) rgb = palette[(id - 1) % PALETTE_SIZE];
+    } else if (KIND == MASK) {
+        inside = step(0.5, v);
+    } else {
+        inside = float(v >= near && v <= far);
+    }
     float a = alpha * inside;
-    color = vec4(tint * a, a);
+    color = vec4(rgb * a, a);
 }
-"""
+""".replace("PALETTE_SIZE", str(len(USER_COLOURS)))
+KINDS = ("LABELS", "MASK", "DEPTH")
 
 
 class SilhouetteOptions(BaseModel):
     model_config = ConfigDict(extra="forbid")
-    color: Color = (0.2, 0.6, 1.0)
+    color: Color = Field((0.2, 0.6, 1.0), description="the performers' colour when not by user")
+    by_user: bool = Field(True, description="each performer in their user's colour (host.user_colour) when the "
+                          "backend labels users; false: everyone in `color`")
     alpha: float = Field(1.0, ge=0, le=1)
     near_mm: float = Field(500.0, gt=0, description="depth band used when the backend gives no mask")
     far_mm: float = Field(3500.0, gt=0)
@@ -52,20 +73,27 @@ class Silhouette(Effect):
     def setup(self, stage: Stage) -> None:
         super().setup(stage)
         # One program per input, so each pixel fetches one texture (llvmpipe pays per fetch).
-        self.quads = {kind: DepthQuad(stage.ctx, FRAGMENT.replace("MASK", kind)) for kind in ("true", "false")}
+        self.quads = {kind: DepthQuad(stage.ctx, FRAGMENT.replace("KIND", kind)) for kind in KINDS}
         o = self.options
+        values = {"near": o.near_mm / 1000, "far": o.far_mm / 1000, "tint": o.color, "alpha": o.alpha,
+                  "by_user": o.by_user}
         for quad in self.quads.values():
-            prog = quad.prog
-            for name, value in (("near", o.near_mm / 1000), ("far", o.far_mm / 1000), ("tint", o.color), ("alpha", o.alpha)):
-                if prog.get(name, None) is not None:
-                    prog[name].value = value
+            for name, value in values.items():
+                if quad.prog.get(name, None) is not None:  # the driver drops unused uniforms
+                    quad.prog[name].value = value
+        palette = self.quads["LABELS"].prog.get("palette", None)
+        if palette is not None:
+            palette.value = USER_COLOURS
 
     def render(self, target) -> None:
-        mask = target.mask_texture()
-        image = mask if mask is not None else target.depth_texture()
-        if image is not None:
-            quad = self.quads["true" if mask is not None else "false"]
-            quad.draw(target, self.stage, target.frame.depth, {"image": image})
+        if target.frame is None or target.frame.depth is None:
+            return  # no image to place the pixels by
+        for kind, image in (("LABELS", target.labels_texture), ("MASK", target.mask_texture),
+                            ("DEPTH", target.depth_texture)):
+            texture = image()
+            if texture is not None:
+                self.quads[kind].draw(target, self.stage, target.frame.depth, {"image": texture})
+                return
 
     def close(self) -> None:
         for quad in getattr(self, "quads", {}).values():

@@ -12,14 +12,17 @@ from host.model import Frame
 
 
 class FrameTextures:
-    """The newest frame's depth (R32F, metres, 0 = no reading) and user mask (R8, 1 = performer)."""
+    """The newest frame's depth (R32F, metres, 0 = no reading), user mask (R8, 1 = performer)
+    and user labels (R8 holding the label: a shader reads round(r * 255), 0 = nobody, else the
+    user id)."""
 
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
         self.frame: Frame | None = None
         self._depth: moderngl.Texture | None = None
         self._mask: moderngl.Texture | None = None
-        self._depth_seq = self._mask_seq = -1
+        self._labels: moderngl.Texture | None = None
+        self._depth_seq = self._mask_seq = self._labels_seq = -1
 
     def _texture(self, old: moderngl.Texture | None, size: tuple[int, int], dtype: str) -> moderngl.Texture:
         if old is not None and old.size == size and old.dtype == dtype:
@@ -54,7 +57,18 @@ class FrameTextures:
             self._mask_seq = frame.seq
         return self._mask
 
+    def labels(self) -> moderngl.Texture | None:
+        frame = self.frame
+        if frame is None or frame.user_labels is None:
+            return None
+        if frame.seq != self._labels_seq:
+            labels = frame.user_labels
+            self._labels = self._texture(self._labels, (labels.shape[1], labels.shape[0]), "f1")
+            self._labels.write(np.ascontiguousarray(labels[::-1], dtype=np.uint8))
+            self._labels_seq = frame.seq
+        return self._labels
+
     def release(self) -> None:
-        for tex in (self._depth, self._mask):
+        for tex in (self._depth, self._mask, self._labels):
             if tex is not None:
                 tex.release()
