@@ -14,11 +14,19 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from host import CANONICAL_GESTURES, Effect, Frame, Gesture, GestureState, Stage, Vec3
+from host import CANONICAL_GESTURES, Effect, Frame, Gesture, GestureState, Side, Stage, Vec3
 from host.options import ProfilePath
 
 from effects.digieviss import lucid
-from effects.digieviss.scene import Scene, Sphere
+from effects.digieviss.scene import HandKey, Scene, Sphere
+
+
+def hand_key(user_id: int, side: Side, hand_id: int) -> HandKey:
+    """Who holds a sphere: the user's left or right hand, which stays that hand when it rests and
+    comes up again whatever id a backend gives it; by id only when the backend cannot tell sides."""
+    if side is Side.UNKNOWN:
+        return f"user {user_id} hand {hand_id}"
+    return f"user {user_id} {side.value} hand"
 
 
 class SphereSpec(BaseModel):
@@ -91,6 +99,7 @@ class DigiEVISS(Effect):
         self.scene = Scene([Sphere(ob.id, ob.data, pos, rad) for ob, (pos, rad) in zip(self.observations, places)],
                            o.planar, o.lost_release_s, o.hold_timeout_s)
         self.written: str | None = None
+        self.keys: dict[int, HandKey] = {}  # this frame's hand ids -> who they are
         self.view = None
         if stage.ctx is not None:
             from effects.digieviss.view import SceneView  # moderngl only when there is a renderer
@@ -113,7 +122,9 @@ class DigiEVISS(Effect):
 
     # -- input -------------------------------------------------------------------------------
     def on_frame(self, frame: Frame) -> None:
-        hands = {h.id: h.position for h in frame.hands if h.in_view}
+        in_view = [h for h in frame.hands if h.in_view]
+        self.keys = {h.id: hand_key(h.user_id, h.side, h.id) for h in in_view}
+        hands = {self.keys[h.id]: h.position for h in in_view}
         changed = self.scene.update(hands, frame.timestamp)
         self._flush_log()
         if changed:
@@ -127,10 +138,15 @@ class DigiEVISS(Effect):
         self.scene.grab_or_release(self._hand_of(gesture), gesture.position, gesture.timestamp, grab, release)
         self._flush_log()
 
-    def _hand_of(self, gesture: Gesture) -> int:
-        """The gesture's hand; a backend that cannot tell (id 0) gets the nearest tracked hand."""
+    def _hand_of(self, gesture: Gesture) -> HandKey:
+        """The gesture's hand: the tracked hand of its id, else by its user and side, else (a
+        backend that cannot tell, id 0) the nearest tracked hand."""
+        if gesture.hand_id in self.keys:
+            return self.keys[gesture.hand_id]
+        if gesture.side is not Side.UNKNOWN:
+            return hand_key(gesture.user_id, gesture.side, gesture.hand_id)
         if gesture.hand_id or not self.scene.hands:
-            return gesture.hand_id
+            return hand_key(gesture.user_id, Side.UNKNOWN, gesture.hand_id)
         return min(self.scene.hands, key=lambda h: math.dist(self.scene.hands[h], gesture.position))
 
     def _flush_log(self) -> None:

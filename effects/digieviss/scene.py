@@ -6,6 +6,10 @@ and lets go with the release gesture, when it has been out of sight for a moment
 only way), or after a hold timeout. Two spheres are linked when one is being carried and they
 touch (centre distance <= sum of radii); a link is a time-successor relation read left to right
 (the sphere further left comes first), and links chain into observation sequences.
+
+Hands are named by who holds them (`HandKey`, e.g. "user 1 right hand"), not by a backend's hand
+id: a backend that reports resting hands keeps a user's left and right hand apart however their
+ids go, so a sphere carried down to the performer's side stays in that hand.
 """
 from __future__ import annotations
 
@@ -13,6 +17,8 @@ import math
 from dataclasses import dataclass, field
 
 from host import Vec3
+
+HandKey = str  # which hand, for the scene and the log: "user 1 right hand"
 
 
 @dataclass
@@ -39,8 +45,8 @@ class Scene:
     planar: bool = True           # measure distances on the screen plane (x, y); z is ignored
     lost_release_s: float = 0.5   # a grip whose hand is unseen this long lets go
     hold_timeout_s: float = 0.0   # a grip lets go after this long (0: never)
-    hands: dict[int, Vec3] = field(default_factory=dict)
-    grips: dict[int, Grip] = field(default_factory=dict)
+    hands: dict[HandKey, Vec3] = field(default_factory=dict)
+    grips: dict[HandKey, Grip] = field(default_factory=dict)
     sequences: list[list[str]] = field(default_factory=list)
     log: list[str] = field(default_factory=list)  # what happened, one line each, for the console
 
@@ -48,29 +54,29 @@ class Scene:
         dims = 2 if self.planar else 3
         return math.dist(a[:dims], b[:dims])
 
-    def holder(self, sphere: Sphere) -> int | None:
+    def holder(self, sphere: Sphere) -> HandKey | None:
         return next((h for h, g in self.grips.items() if g.sphere is sphere), None)
 
     # -- input -----------------------------------------------------------------------------
-    def update(self, hands: dict[int, Vec3], t: float) -> bool:
+    def update(self, hands: dict[HandKey, Vec3], t: float) -> bool:
         """New hand positions at source time t: carry, time out, link. True when links changed."""
         self.hands = dict(hands)
-        for hand_id, grip in list(self.grips.items()):
-            position = hands.get(hand_id)
+        for hand, grip in list(self.grips.items()):
+            position = hands.get(hand)
             if position is not None:
                 grip.seen = t
                 grip.sphere.center = tuple(p + o for p, o in zip(position, grip.offset))
             if t - grip.seen > self.lost_release_s:
-                self._release(hand_id, t, "hand out of sight")
+                self._release(hand, t, "hand out of sight")
             elif self.hold_timeout_s and t - grip.since > self.hold_timeout_s:
-                self._release(hand_id, t, "hold timeout")
+                self._release(hand, t, "hold timeout")
         return self._link_touching(t)
 
-    def grab_or_release(self, hand_id: int, position: Vec3, t: float, grab: bool, release: bool) -> None:
-        """A gesture by `hand_id` at `position`: release what it holds, or grab what it is in."""
-        if hand_id in self.grips:
+    def grab_or_release(self, hand: HandKey, position: Vec3, t: float, grab: bool, release: bool) -> None:
+        """A gesture by `hand` at `position`: release what it holds, or grab what it is in."""
+        if hand in self.grips:
             if release:
-                self._release(hand_id, t, "release gesture")
+                self._release(hand, t, "release gesture")
             return
         if not grab:
             return
@@ -80,12 +86,12 @@ class Scene:
             return
         sphere = min(inside, key=lambda s: self.distance(position, s.center))
         offset = tuple(c - p for c, p in zip(sphere.center, position))
-        self.grips[hand_id] = Grip(sphere, offset, t, t)
-        self.log.append(f"{t:8.2f}s  hand {hand_id} grabbed {sphere.id}")
+        self.grips[hand] = Grip(sphere, offset, t, t)
+        self.log.append(f"{t:8.2f}s  {hand} grabbed {sphere.id}")
 
-    def _release(self, hand_id: int, t: float, why: str) -> None:
-        grip = self.grips.pop(hand_id)
-        self.log.append(f"{t:8.2f}s  hand {hand_id} released {grip.sphere.id} ({why})")
+    def _release(self, hand: HandKey, t: float, why: str) -> None:
+        grip = self.grips.pop(hand)
+        self.log.append(f"{t:8.2f}s  {hand} released {grip.sphere.id} ({why})")
 
     # -- links -----------------------------------------------------------------------------
     def linked(self, a: str, b: str) -> bool:
