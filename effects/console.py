@@ -59,7 +59,7 @@ class ConsoleEffect(Effect):
             if hand.id not in self._known:
                 user = hand.user_id if frame.users else None
                 self._line(frame, "hand", hand.id, "new", hand.position, hand.side.value, user)
-        for hand_id in self._known.keys() - seen.keys():
+        for hand_id in sorted(self._known.keys() - seen.keys()):
             self._line(frame, "hand", hand_id, "lost")
         self._known = seen
 
