@@ -2,7 +2,9 @@
 
 Spheres o0..oN carry observations; the performer grabs them with a gesture, carries them and
 links them into observation sequences; every change of the links rewrites a Forensic Lucid
-program (Listing 5.1) so the investigator always has the current one on disk.
+program (Listing 5.1) so the investigator always has the current one on disk. Each user's left
+and right hand can hold a sphere; a hand that comes down to rest keeps it (and links nothing
+until it is raised again), so a backend that reports resting hands, such as `openiss`, plays it.
 """
 from __future__ import annotations
 
@@ -125,7 +127,8 @@ class DigiEVISS(Effect):
         in_view = [h for h in frame.hands if h.in_view]
         self.keys = {h.id: hand_key(h.user_id, h.side, h.id) for h in in_view}
         hands = {self.keys[h.id]: h.position for h in in_view}
-        changed = self.scene.update(hands, frame.timestamp)
+        resting = {self.keys[h.id] for h in in_view if h.extended is False}
+        changed = self.scene.update(hands, frame.timestamp, resting)
         self._flush_log()
         if changed:
             self.write_program()

@@ -9,7 +9,9 @@ touch (centre distance <= sum of radii); a link is a time-successor relation rea
 
 Hands are named by who holds them (`HandKey`, e.g. "user 1 right hand"), not by a backend's hand
 id: a backend that reports resting hands keeps a user's left and right hand apart however their
-ids go, so a sphere carried down to the performer's side stays in that hand.
+ids go, so a sphere carried down to the performer's side stays in that hand. A resting hand
+carries its sphere but links nothing: walking past spheres with the arm down is not presenting
+one to another (the thesis' performer raises the hand to bring them into touch).
 """
 from __future__ import annotations
 
@@ -46,6 +48,7 @@ class Scene:
     lost_release_s: float = 0.5   # a grip whose hand is unseen this long lets go
     hold_timeout_s: float = 0.0   # a grip lets go after this long (0: never)
     hands: dict[HandKey, Vec3] = field(default_factory=dict)
+    resting: set[HandKey] = field(default_factory=set)  # hands at the performer's side this frame
     grips: dict[HandKey, Grip] = field(default_factory=dict)
     sequences: list[list[str]] = field(default_factory=list)
     log: list[str] = field(default_factory=list)  # what happened, one line each, for the console
@@ -58,9 +61,10 @@ class Scene:
         return next((h for h, g in self.grips.items() if g.sphere is sphere), None)
 
     # -- input -----------------------------------------------------------------------------
-    def update(self, hands: dict[HandKey, Vec3], t: float) -> bool:
-        """New hand positions at source time t: carry, time out, link. True when links changed."""
-        self.hands = dict(hands)
+    def update(self, hands: dict[HandKey, Vec3], t: float, resting: set[HandKey] = frozenset()) -> bool:
+        """New hand positions at source time t (`resting`: those of them at the performer's
+        side): carry, time out, link. True when links changed."""
+        self.hands, self.resting = dict(hands), set(resting)
         for hand, grip in list(self.grips.items()):
             position = hands.get(hand)
             if position is not None:
@@ -102,7 +106,7 @@ class Scene:
 
     def _link_touching(self, t: float) -> bool:
         changed = False
-        carried = [g.sphere for g in self.grips.values()]
+        carried = [g.sphere for hand, g in self.grips.items() if hand not in self.resting]
         for moving in carried:
             for other in self.spheres:
                 if other is moving or self.linked(moving.id, other.id):

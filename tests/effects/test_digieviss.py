@@ -139,6 +139,15 @@ def test_release_when_the_hand_is_out_of_sight_or_held_too_long():
     assert not scene.grips
 
 
+def test_a_resting_hand_carries_its_sphere_but_links_nothing():
+    scene = Scene(sphere_row())  # o0 at x = 0, o1 at 400, radius 100
+    scene.grab_or_release("a", (0.0, 0.0, 2000.0), 0.0, grab=True, release=True)
+    assert not scene.update({"a": (400.0, 50.0, 2000.0)}, 0.1, resting={"a"})  # over o1, arm down
+    assert scene.spheres[0].center == (400.0, 50.0, 2000.0) and not scene.sequences
+    assert scene.update({"a": (250.0, 0.0, 2000.0)}, 0.2)  # raised beside o1: presented, linked
+    assert scene.sequences == [["o0", "o1"]]
+
+
 def test_links_chain_left_to_right_and_never_branch():
     scene = Scene(sphere_row(4))
     def carry(sphere, to, t):
