@@ -26,9 +26,7 @@ from effects.digieviss.scene import HandKey, Scene, Sphere
 def hand_key(user_id: int, side: Side, hand_id: int) -> HandKey:
     """Who holds a sphere: the user's left or right hand, which stays that hand when it rests and
     comes up again whatever id a backend gives it; by id only when the backend cannot tell sides."""
-    if side is Side.UNKNOWN:
-        return f"user {user_id} hand {hand_id}"
-    return f"user {user_id} {side.value} hand"
+    return HandKey(user_id, f"hand {hand_id}" if side is Side.UNKNOWN else side.value)
 
 
 class SphereSpec(BaseModel):

@@ -17,10 +17,21 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 from host import Vec3
 
-HandKey = str  # which hand, for the scene and the log: "user 1 right hand"
+
+
+class HandKey(NamedTuple):
+    """Which hand holds a sphere: user `user`'s `hand` ("left", "right", or "hand 7" when the
+    backend cannot tell sides); prints as the log says it, "user 1 right hand"."""
+
+    user: int
+    hand: str
+
+    def __str__(self) -> str:
+        return f"user {self.user} {self.hand}" + (" hand" if self.hand in ("left", "right") else "")
 
 
 @dataclass

@@ -7,13 +7,15 @@ import numpy as np
 import pytest
 
 from host import (DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState,
-                  Intrinsics, Side, Stage, User)
+                  Intrinsics, Side, Stage, User, user_colour)
 from host.assemble import make_backend, make_effects
 from host.loop import Show
 from host.profile import load
 from effects.digieviss import DigiEVISS
 from effects.digieviss import lucid
-from effects.digieviss.scene import Scene, Sphere
+from effects.digieviss.scene import HandKey, Scene, Sphere
+from tests.host.render.stage import K as STAGE_K
+from tests.host.render.stage import depth_image, lit, requires_gl, run_show
 
 K = Intrinsics(100, 100, 8, 6)
 RIGHT, LEFT = 1, 2
@@ -104,47 +106,50 @@ def test_no_grab_outside_the_radius_and_no_program_without_links(tmp_path):
     assert not (tmp_path / "out.ipl").exists()
 
 
+A, B, H = HandKey(1, "right"), HandKey(1, "left"), HandKey(2, "right")
+
+
 def sphere_row(n=3, radius=100.0, spacing=400.0):
     return [Sphere(f"o{i}", f"data{i}", (i * spacing, 0.0, 2000.0), radius) for i in range(n)]
 
 
 def test_a_grabbed_sphere_follows_the_hand_without_jumping():
     scene = Scene(sphere_row())
-    scene.update({"a": (30.0, 40.0, 1900.0)}, 0.0)
-    scene.grab_or_release("a", (30.0, 40.0, 1900.0), 0.0, grab=True, release=True)
-    scene.update({"a": (130.0, -60.0, 1800.0)}, 0.1)
+    scene.update({A: (30.0, 40.0, 1900.0)}, 0.0)
+    scene.grab_or_release(A, (30.0, 40.0, 1900.0), 0.0, grab=True, release=True)
+    scene.update({A: (130.0, -60.0, 1800.0)}, 0.1)
     assert scene.spheres[0].center == pytest.approx((100.0, -100.0, 1900.0))
 
 
 def test_release_by_gesture_then_the_sphere_stays():
     scene = Scene(sphere_row())
-    scene.grab_or_release("a", (0.0, 0.0, 2000.0), 0.0, grab=True, release=True)
-    scene.update({"a": (50.0, 0.0, 2000.0)}, 0.1)
-    scene.grab_or_release("a", (50.0, 0.0, 2000.0), 0.2, grab=True, release=True)
-    scene.update({"a": (200.0, 0.0, 2000.0)}, 0.3)
+    scene.grab_or_release(A, (0.0, 0.0, 2000.0), 0.0, grab=True, release=True)
+    scene.update({A: (50.0, 0.0, 2000.0)}, 0.1)
+    scene.grab_or_release(A, (50.0, 0.0, 2000.0), 0.2, grab=True, release=True)
+    scene.update({A: (200.0, 0.0, 2000.0)}, 0.3)
     assert not scene.grips and scene.spheres[0].center == (50.0, 0.0, 2000.0)
 
 
 def test_release_when_the_hand_is_out_of_sight_or_held_too_long():
     scene = Scene(sphere_row(), lost_release_s=0.5, hold_timeout_s=2.0)
-    scene.grab_or_release("a", (0.0, 0.0, 2000.0), 0.0, grab=True, release=False)
+    scene.grab_or_release(A, (0.0, 0.0, 2000.0), 0.0, grab=True, release=False)
     scene.update({}, 0.4)
-    assert "a" in scene.grips  # a short occlusion does not drop it
+    assert A in scene.grips  # a short occlusion does not drop it
     scene.update({}, 0.6)
     assert not scene.grips
-    scene.grab_or_release("b", (400.0, 0.0, 2000.0), 1.0, grab=True, release=False)
-    scene.update({"b": (400.0, 0.0, 2000.0)}, 2.9)
-    assert "b" in scene.grips
-    scene.update({"b": (400.0, 0.0, 2000.0)}, 3.1)
+    scene.grab_or_release(B, (400.0, 0.0, 2000.0), 1.0, grab=True, release=False)
+    scene.update({B: (400.0, 0.0, 2000.0)}, 2.9)
+    assert B in scene.grips
+    scene.update({B: (400.0, 0.0, 2000.0)}, 3.1)
     assert not scene.grips
 
 
 def test_a_resting_hand_carries_its_sphere_but_links_nothing():
     scene = Scene(sphere_row())  # o0 at x = 0, o1 at 400, radius 100
-    scene.grab_or_release("a", (0.0, 0.0, 2000.0), 0.0, grab=True, release=True)
-    assert not scene.update({"a": (400.0, 50.0, 2000.0)}, 0.1, resting={"a"})  # over o1, arm down
+    scene.grab_or_release(A, (0.0, 0.0, 2000.0), 0.0, grab=True, release=True)
+    assert not scene.update({A: (400.0, 50.0, 2000.0)}, 0.1, resting={A})  # over o1, arm down
     assert scene.spheres[0].center == (400.0, 50.0, 2000.0) and not scene.sequences
-    assert scene.update({"a": (250.0, 0.0, 2000.0)}, 0.2)  # raised beside o1: presented, linked
+    assert scene.update({A: (250.0, 0.0, 2000.0)}, 0.2)  # raised beside o1: presented, linked
     assert scene.sequences == [["o0", "o1"]]
 
 
@@ -152,9 +157,9 @@ def test_links_chain_left_to_right_and_never_branch():
     scene = Scene(sphere_row(4))
     def carry(sphere, to, t):
         start = scene.spheres[sphere].center
-        scene.grab_or_release("h", start, t, grab=True, release=True)
-        scene.update({"h": to}, t + 0.1)
-        scene.grab_or_release("h", to, t + 0.2, grab=True, release=True)
+        scene.grab_or_release(H, start, t, grab=True, release=True)
+        scene.update({H: to}, t + 0.1)
+        scene.grab_or_release(H, to, t + 0.2, grab=True, release=True)
     carry(2, (1000.0, 0.0, 2000.0), 0.0)   # o2 touches o3 from its left (o3 at 1200)
     carry(1, (1380.0, 0.0, 2000.0), 1.0)   # o1 to the right of o3: o2 -> o3 -> o1
     assert scene.sequences == [["o2", "o3", "o1"]]
@@ -222,7 +227,7 @@ def test_two_users_carry_their_own_spheres(tmp_path, capsys):
     steps += [({one: (12, (800.0, 200.0, Z), True), two: (22, (-200.0, -300.0, Z), False), **resting}, [])] * 3
     effect = play(steps, tmp_path, make=user_frames, log=True)
     held = {hand: grip.sphere.id for hand, grip in effect.scene.grips.items()}
-    assert held == {"user 1 right hand": "o3"}
+    assert {str(hand): sphere for hand, sphere in held.items()} == {"user 1 right hand": "o3"}
     assert effect.scene.spheres[3].center == pytest.approx((800.0, 200.0, Z))
     assert effect.scene.spheres[0].center == pytest.approx((-600.0, 0.0, Z))  # where user 2 let go
     log = capsys.readouterr().out
@@ -276,3 +281,19 @@ def test_without_a_renderer_and_with_the_program_path_from_the_profile(tmp_path)
     show.run()
     assert show.stage.ctx is None and effects[0].effect.view is None
     assert (tmp_path / "out" / "case.ipl").read_text() == LISTING_5_1
+
+
+@requires_gl
+def test_each_hand_cursor_is_drawn_in_its_users_colour(tmp_path):
+    hands = {1: (-300.0, -300.0, 2000.0), 2: (300.0, -300.0, 2000.0)}  # well below the row of spheres
+    shown = []
+    for i in range(4):
+        depth = DepthFrame(depth_image(), STAGE_K, i, i / 30)
+        shown.append(Frame(i + 1, depth.capture_time, depth, tuple(
+            Hand(10 * u + 2, HandState.TRACKING, p, Side.RIGHT, u, extended=False) for u, p in hands.items()),
+            (), "script", users=(User(1, HandState.TRACKING), User(2, HandState.TRACKING))))
+    effect = DigiEVISS(DigiEVISS.Options(program=str(tmp_path / "out.ipl"), log=False))
+    image, _, stage = run_show([effect], shown, tmp_path)
+    for user, position in hands.items():
+        b, g, r = lit(image, stage.to_stage(position, shown[-1].depth)).astype(int)
+        assert np.abs(np.array([r, g, b]) - np.round(np.multiply(user_colour(user), 255))).max() <= 2

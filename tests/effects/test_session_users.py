@@ -64,7 +64,7 @@ def test_digieviss_carries_a_sphere_in_a_real_hand_through_its_rests(frames, tmp
         h = right_hand(frame)
         if h is None or not h.in_view:
             break
-        assert effect.scene.holder(effect.scene.spheres[0]) == "user 3 right hand"
+        assert str(effect.scene.holder(effect.scene.spheres[0])) == "user 3 right hand"
         assert effect.scene.spheres[0].center == pytest.approx(h.position)
         resting += not h.extended
     assert resting > 30 and h is not None and h.state is HandState.LOST
