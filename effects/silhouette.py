@@ -8,10 +8,12 @@ shader, so two dancers cost what one does.
 """
 from __future__ import annotations
 
+import moderngl
+import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from effects.gl import DepthQuad
-from host import USER_COLOURS, Effect, Stage
+from host import Effect, Stage, user_colour
 from host.options import Color
 
 FRAGMENT = """
@@ -20,32 +22,38 @@ FRAGMENT = """
 #define MASK 1
 #define DEPTH 2
 uniform sampler2D image;   // user labels (r * 255 = user id), the user mask (1 = performer), or depth in metres
+uniform sampler2D palette; // labels: 256 x 1, entry n the colour of user n (alpha 0 for nobody)
 uniform float near;        // depth band, metres: used when the image is depth
 uniform float far;
-uniform bool by_user;      // labels: each user in palette[(id - 1) % N], else all in tint
-uniform vec3 palette[PALETTE_SIZE];
 uniform vec3 tint;
 uniform float alpha;
 in vec2 uv;
 out vec4 color;
 void main() {
     float v = texture(image, uv).r;
-    vec3 rgb = tint;
-    float inside;
+    vec4 c = vec4(tint, 1.0);
     if (KIND == LABELS) {
-        int id = int(v * 255.0 + 0.5);
-        inside = float(id > 0);
-        if (by_user && id > 0) rgb = palette[(id - 1) % PALETTE_SIZE];
+        c = texture(palette, vec2(v * (255.0 / 256.0) + 0.5 / 256.0, 0.5));  // entry round(v * 255)
     } else if (KIND == MASK) {
-        inside = step(0.5, v);
+        c.a = step(0.5, v);
     } else {
-        inside = float(v >= near && v <= far);
+        c.a = float(v >= near && v <= far);
     }
-    float a = alpha * inside;
-    color = vec4(rgb * a, a);
+    float a = alpha * c.a;
+    color = vec4(c.rgb * a, a);
 }
-""".replace("PALETTE_SIZE", str(len(USER_COLOURS)))
+"""
 KINDS = ("LABELS", "MASK", "DEPTH")
+
+
+def palette(tint: tuple[float, float, float] | None) -> np.ndarray:
+    """(1, 256, 4) uint8: entry n the colour of user n (host.user_colour), or `tint` for every
+    user; entry 0 (nobody) transparent. A texture lookup costs llvmpipe less than picking from a
+    uniform array by an integer id."""
+    rgba = np.zeros((1, 256, 4), np.uint8)
+    for user in range(1, 256):
+        rgba[0, user] = np.round(np.r_[tint if tint is not None else user_colour(user), 1.0] * 255)
+    return rgba
 
 
 class SilhouetteOptions(BaseModel):
@@ -75,15 +83,13 @@ class Silhouette(Effect):
         # One program per input, so each pixel fetches one texture (llvmpipe pays per fetch).
         self.quads = {kind: DepthQuad(stage.ctx, FRAGMENT.replace("KIND", kind)) for kind in KINDS}
         o = self.options
-        values = {"near": o.near_mm / 1000, "far": o.far_mm / 1000, "tint": o.color, "alpha": o.alpha,
-                  "by_user": o.by_user}
+        values = {"near": o.near_mm / 1000, "far": o.far_mm / 1000, "tint": o.color, "alpha": o.alpha}
         for quad in self.quads.values():
             for name, value in values.items():
                 if quad.prog.get(name, None) is not None:  # the driver drops unused uniforms
                     quad.prog[name].value = value
-        palette = self.quads["LABELS"].prog.get("palette", None)
-        if palette is not None:
-            palette.value = USER_COLOURS
+        self.palette = stage.ctx.texture((256, 1), 4, palette(None if o.by_user else o.color).tobytes())
+        self.palette.filter = (moderngl.NEAREST, moderngl.NEAREST)
 
     def render(self, target) -> None:
         if target.frame is None or target.frame.depth is None:
@@ -92,9 +98,12 @@ class Silhouette(Effect):
                             ("DEPTH", target.depth_texture)):
             texture = image()
             if texture is not None:
-                self.quads[kind].draw(target, self.stage, target.frame.depth, {"image": texture})
+                textures = {"image": texture, "palette": self.palette}
+                self.quads[kind].draw(target, self.stage, target.frame.depth, textures)
                 return
 
     def close(self) -> None:
         for quad in getattr(self, "quads", {}).values():
             quad.release()
+        if hasattr(self, "palette"):
+            self.palette.release()
