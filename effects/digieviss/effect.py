@@ -71,6 +71,8 @@ class DigiEVISSOptions(BaseModel):
     release_gesture: str = Field("click", description="lets go of the sphere the hand holds")
     lost_release_s: float = Field(0.5, gt=0, description="a held sphere is let go when its hand is unseen this long")
     hold_timeout_s: float = Field(10.0, ge=0, description="a held sphere is let go after this long (0: never)")
+    touch_s: float = Field(0.1, ge=0, description="a carried sphere links to another once they touch this long "
+                           "(a tracker's one-frame jump links none)")
     log: bool = Field(True, description="print grabs, releases, links and writes")
 
     @field_validator("grab_gesture", "release_gesture")
@@ -97,7 +99,7 @@ class DigiEVISS(Effect):
         o = self.options
         self.observations, places = self._observations()
         self.scene = Scene([Sphere(ob.id, ob.data, pos, rad) for ob, (pos, rad) in zip(self.observations, places)],
-                           o.planar, o.lost_release_s, o.hold_timeout_s)
+                           o.planar, o.lost_release_s, o.hold_timeout_s, o.touch_s)
         self.written: str | None = None
         self.keys: dict[int, HandKey] = {}  # this frame's hand ids -> who they are
         self.view = None

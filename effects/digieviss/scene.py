@@ -4,7 +4,8 @@ Pure logic in millimetres and source seconds, no drawing, so it is tested withou
 A hand grabs the sphere it is within the radius of when it does the grab gesture, carries it,
 and lets go with the release gesture, when it has been out of sight for a moment (the thesis'
 only way), or after a hold timeout. Two spheres are linked when one is being carried and they
-touch (centre distance <= sum of radii); a link is a time-successor relation read left to right
+touch (centre distance <= sum of radii) for `touch_s`, so that a tracker's one-frame jump of the
+hand links nothing; a link is a time-successor relation read left to right
 (the sphere further left comes first), and links chain into observation sequences.
 
 Hands are named by who holds them (`HandKey`, e.g. "user 1 right hand"), not by a backend's hand
@@ -58,11 +59,13 @@ class Scene:
     planar: bool = True           # measure distances on the screen plane (x, y); z is ignored
     lost_release_s: float = 0.5   # a grip whose hand is unseen this long lets go
     hold_timeout_s: float = 0.0   # a grip lets go after this long (0: never)
+    touch_s: float = 0.0          # spheres link once touching this long (a tracker's one-frame jump links none)
     hands: dict[HandKey, Vec3] = field(default_factory=dict)
     resting: set[HandKey] = field(default_factory=set)  # hands at the performer's side this frame
     grips: dict[HandKey, Grip] = field(default_factory=dict)
     sequences: list[list[str]] = field(default_factory=list)
     log: list[str] = field(default_factory=list)  # what happened, one line each, for the console
+    touching: dict[tuple[str, str], float] = field(default_factory=dict)  # (carried, other) -> since when
 
     def distance(self, a: Vec3, b: Vec3) -> float:
         dims = 2 if self.planar else 3
@@ -118,15 +121,20 @@ class Scene:
     def _link_touching(self, t: float) -> bool:
         changed = False
         carried = [g.sphere for hand, g in self.grips.items() if hand not in self.resting]
+        touching = {}
         for moving in carried:
             for other in self.spheres:
                 if other is moving or self.linked(moving.id, other.id):
                     continue
-                if self.distance(moving.center, other.center) <= moving.radius + other.radius:
+                if self.distance(moving.center, other.center) > moving.radius + other.radius:
+                    continue
+                since = touching[moving.id, other.id] = self.touching.get((moving.id, other.id), t)
+                if t - since >= self.touch_s:
                     first, second = sorted((moving, other), key=lambda s: s.center[0])
                     if self._chain(first.id, second.id):
                         self.log.append(f"{t:8.2f}s  linked {first.id} -> {second.id}")
                         changed = True
+        self.touching = touching
         return changed
 
     def _chain(self, first: str, second: str) -> bool:

@@ -153,6 +153,17 @@ def test_a_resting_hand_carries_its_sphere_but_links_nothing():
     assert scene.sequences == [["o0", "o1"]]
 
 
+def test_a_one_frame_jump_of_the_hand_links_nothing():
+    scene = Scene(sphere_row(), touch_s=0.1)  # o0 at x = 0, o1 at 400, radius 100
+    scene.grab_or_release(A, (0.0, 0.0, 2000.0), 0.0, grab=True, release=True)
+    assert not scene.update({A: (250.0, 0.0, 2000.0)}, 1 / 30)  # touching o1 for one frame...
+    assert not scene.update({A: (0.0, -300.0, 2000.0)}, 2 / 30)  # ...then back where it was
+    assert not scene.update({A: (250.0, 0.0, 2000.0)}, 3 / 30)  # touching again: the clock restarts
+    assert not scene.update({A: (250.0, 0.0, 2000.0)}, 5 / 30) and not scene.sequences
+    assert scene.update({A: (250.0, 0.0, 2000.0)}, 6 / 30)  # 0.1 s of touch
+    assert scene.sequences == [["o0", "o1"]]
+
+
 def test_links_chain_left_to_right_and_never_branch():
     scene = Scene(sphere_row(4))
     def carry(sphere, to, t):
@@ -207,6 +218,7 @@ def test_a_carried_sphere_stays_in_a_hand_that_comes_down_to_rest(tmp_path):
     steps += move(1, Side.RIGHT, 12, O3, rest, 10, still=left)
     steps += move(1, Side.RIGHT, 13, rest, (-480.0, -350.0, Z), 60, extended=False, still=left)  # 2 s at rest
     steps += move(1, Side.RIGHT, 14, (-480.0, -350.0, Z), beside_o0, 15, still=left)
+    steps += [({(1, Side.RIGHT): (14, beside_o0, True), **left}, [])] * 5  # held there a moment
     steps += [({(1, Side.RIGHT): (14, beside_o0, True), **left}, [(1, Side.RIGHT)])]
     steps += move(1, Side.RIGHT, 14, beside_o0, (0.0, -350.0, Z), 10, extended=False, still=left)
     effect = play(steps, tmp_path, make=user_frames)
