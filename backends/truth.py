@@ -1,12 +1,18 @@
-"""`truth`: a source's ground truth passed through as hands and gestures.
+"""`truth`: a source's ground truth passed through as hands, gestures and users.
 
 The camera-less null tracker of the original framework: effects can be tested deterministically
-against exactly what the synthetic performer did. Never a show default.
+against exactly what the synthetic performer did. Never a show default. Hands and gestures are
+the first performer's (`Truth.hands`, `Truth.gestures`); every performer the truth lists is a
+user (NEW when it comes into view, TRACKING, LOST once when it leaves), and the truth's label
+image, when the source has one, is the frame's `user_labels`.
 """
 from __future__ import annotations
 
-from host import (Backend, DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState,
-                  Side, TruthGesture, Vec3)
+from dataclasses import replace
+
+from host import (Backend, DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState, Joint,
+                  Side, Truth, TruthGesture, User, Vec3)
+from backends.users import MASS
 
 
 class TruthBackend(Backend):
@@ -18,6 +24,7 @@ class TruthBackend(Backend):
         self._active: set[TruthGesture] = set()
         self._hand_ids: dict[Side, int] = {}
         self._last: DepthFrame | None = None
+        self._present: dict[int, User] = {}
 
     def update(self) -> Frame | None:
         depth = self.source.read()
@@ -27,18 +34,36 @@ class TruthBackend(Backend):
         truth = depth.truth
         hands: list[Hand] = []
         gestures: list[Gesture] = []
+        users: tuple[User, ...] = ()
         if truth is not None and self.tracking_hands:
+            owner = truth.users[0].id if truth.users else 1
             for side, position in truth.hands.items():
                 new = side not in self._hand_ids
                 hand_id = self._hand_ids.setdefault(side, len(self._hand_ids) + 1)
-                hands.append(Hand(hand_id, HandState.NEW if new else HandState.TRACKING, position, side))
+                hands.append(Hand(hand_id, HandState.NEW if new else HandState.TRACKING, position, side, owner))
+            users = self._users(truth)
         if truth is not None and self.detecting_gestures:
             gestures = self._gestures(set(truth.gestures), truth.hands, depth.timestamp)
-        return self._frame(depth, hands, gestures)
+        labels = truth.user_labels if truth is not None else None
+        return self._frame(depth, hands, gestures, users, None if labels is None else lambda: labels)
 
-    def _frame(self, depth: DepthFrame, hands, gestures) -> Frame:
+    def _frame(self, depth: DepthFrame, hands, gestures, users=(), labels=None) -> Frame:
         self._seq += 1
-        return Frame(self._seq, depth.capture_time, depth, tuple(hands), tuple(gestures), self.name)
+        return Frame(self._seq, depth.capture_time, depth, tuple(hands), tuple(gestures), self.name,
+                     users=users, make_user_labels=labels)
+
+    def _users(self, truth: Truth) -> tuple[User, ...]:
+        """The performers in view, NEW the first frame of each visit; one LOST report when one leaves."""
+        users = []
+        for u in truth.users:
+            joints = {name: Joint(p) for name, p in u.body.items()}
+            mass = [joints[n].position for n in MASS if n in joints]
+            centre = tuple(sum(c) / len(mass) for c in zip(*mass)) if mass else None
+            users.append(User(u.id, HandState.TRACKING if u.id in self._present else HandState.NEW, joints, centre))
+        here = {u.id for u in users}
+        gone = [replace(u, state=HandState.LOST) for i, u in self._present.items() if i not in here]
+        self._present = {u.id: u for u in users}
+        return tuple(users + gone)
 
     def _flush(self) -> Frame | None:
         """At the end of the stream, complete what is still under way, once."""

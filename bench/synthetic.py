@@ -2,7 +2,8 @@
 
 A frame must cost a few milliseconds so the sensor thread keeps 30 Hz with room for a backend.
 Median and p90 of `read()` over 100 frames of the default show, per resolution and setting, in
-wall-clock time and in this thread's CPU time (the fairer figure on a machine shared with others).
+wall-clock time and in this thread's CPU time (the fairer figure on a machine shared with others);
+the duet and trio scenes (several performers, their truth label image too) from their crossing on.
 """
 from __future__ import annotations
 
@@ -15,14 +16,18 @@ SETTINGS = {
     "kinect (room, noise, holes)": {},
     "clean (room, no noise or holes)": {"noise": 0, "holes": 0},
     "background none": {"background": "none"},
+    "duet scene (2 performers)": {"scene": "duet"},
+    "trio scene (3 performers)": {"scene": "trio"},
+    "quartet scene (4 performers)": {"scene": "quartet"},
 }
 
 
 def read_times(frames: int = 100, **options) -> tuple[list[float], list[float]]:
-    """Wall and CPU milliseconds per read(), after the first second (the performer idles there)."""
+    """Wall and CPU milliseconds per read(), after the first second (the performer idles there;
+    a scene's performers then start walking and cross)."""
     source = SyntheticSource(SyntheticOptions(seed=1, loop=True, **options))
     source.open()
-    for _ in range(30):
+    for _ in range(30 if "scene" not in options else 90):
         source.read()
     wall, cpu = [], []
     for _ in range(frames):

@@ -145,12 +145,16 @@ class Truth:
 
     `hands`, `gestures` and `body` are the first performer's (the only one for most sources);
     a scene of several performers also lists every performer in view in `users`.
+    `user_labels` (optional): uint8 (H, W) at the depth image's size, which performer's body is
+    nearest at each pixel (0 = nobody, else a `users` id), also where the sensor read nothing:
+    what a segmentation should find.
     """
 
     hands: dict[Side, Vec3] = field(default_factory=dict)
     gestures: tuple[TruthGesture, ...] = ()
     body: dict[str, Vec3] = field(default_factory=dict)
     users: tuple[UserTruth, ...] = ()
+    user_labels: np.ndarray | None = field(default=None, compare=False, repr=False)
 
 
 def _owned(array: np.ndarray) -> np.ndarray:

@@ -6,11 +6,14 @@ when given, else estimated from the hands, see body_reference.py), cut into stro
 matched against the rules (rules.py):
 
 - SWIPE_LEFT/RIGHT/UP/DOWN: one fast stroke, dominant along its axis, with the hand up from
-  rest and the body steady. It completes `swipe_confirm_s` after it ends unless a comparable
-  stroke the other way follows: then it was a wind-up (the larger stroke wins) or part of a
-  back-and-forth (neither is a swipe); the third of alternating strokes is a wave's, never a
-  swipe. If the hand leaves the view meanwhile, the swipe completes, except a swipe down: a hand
-  lost after a stroke down went back to rest (a swipe down waits while its hand is unseen).
+  rest (a sideways one may sweep out at waist height, see `raised`) and the body steady. It
+  completes `swipe_confirm_s` after it ends unless a comparable stroke the other way follows:
+  then it was a wind-up (the larger stroke wins) or part of a back-and-forth (neither is a
+  swipe); the third of quick alternating strokes is a wave's, never a swipe, but sweeps slower
+  than a wave's swings are swipes each. A reversal of a frame or two is a tracker's glitch: the
+  strokes either side of it are one. If the hand leaves the view meanwhile, the swipe completes,
+  except a swipe down: a hand lost after a stroke down went back to rest (a swipe down waits
+  while its hand is unseen).
 - WAVE: several direction reversals of horizontal swings, from the wrist (4 cm) to the whole arm,
   each quick, reaching the shoulders' height or above, with the other hand elsewhere (hands at
   the eyes or on the head, or clapping, are no wave).
@@ -40,7 +43,7 @@ import numpy as np
 from backends.engine.body_reference import BodyReference
 from backends.engine.rules import GestureRules
 from backends.engine.strokes import X, Y, Z, AxisStrokes, Sample, Stroke
-from host import CANONICAL_GESTURES, Gesture, GestureState, GestureType, Hand, Vec3
+from host import CANONICAL_GESTURES, Gesture, GestureState, GestureType, Hand, Side, Vec3
 
 #: The dictionaries of the engine's modes: canonical name -> the native type it is reported as.
 OPENISS_DICTIONARY: dict[str, GestureType] = {n: GestureType.from_canonical(n) for n in CANONICAL_GESTURES}
@@ -103,9 +106,33 @@ class _HandTrack:
     raised_done: bool = False
     slow_since: float | None = None  # since when the raised hand has been moving slowly
 
+    last: dict[int, Stroke] = field(default_factory=dict)  # per axis: the last stroke judged
+    jitter: dict[int, Stroke] = field(default_factory=dict)  # per axis: a reversal too brief to judge, held back
+
     def __post_init__(self) -> None:
         r = self.rules
         self.strokes = {a: AxisStrokes(a, r.stroke_hysteresis_mm, r.stroke_stop_s) for a in (X, Y, Z)}
+
+    def joined(self, stroke: Stroke) -> Stroke | None:
+        """The stroke to judge, or None for a reversal of a frame or two (a tracker's jitter), held
+        back: when the hand then goes on the way it went before, the stroke continues that one, which
+        is taken back from the runs and pending swipes it joined."""
+        axis = stroke.axis
+        jitter = self.jitter.pop(axis, None)
+        if stroke.duration <= self.rules.stroke_min_reversal_s:
+            self.jitter[axis] = stroke
+            return None
+        before = self.last.get(axis)
+        if (jitter is not None and before is not None and before.direction == stroke.direction
+                and before.end is jitter.start and jitter.end is stroke.start):
+            stroke = Stroke(axis, stroke.direction, before.samples + jitter.samples[1:] + stroke.samples[1:])
+            for run in (self.chains[axis], self.waving):
+                if run and run[-1] is before:
+                    run.pop()
+            if self.pending.get(axis) is before:
+                del self.pending[axis]
+        self.last[axis] = stroke
+        return stroke
 
     def sample(self, t: float, p: np.ndarray, shoulder: float, face: np.ndarray, world: Vec3, body_vy: float) -> Sample:
         """The new sample with its velocity over the speed window, kept in a short history."""
@@ -236,6 +263,8 @@ class _Hand:
         for axis in (X, Y, Z):
             done = self.tr.strokes[axis].update(s)
             if done is not None:
+                done = self.tr.joined(done)
+            if done is not None:
                 reversed_ = self.tr.strokes[axis].direction != 0
                 if axis == Z:
                     self.click(done)
@@ -299,8 +328,23 @@ class _Hand:
         else:
             lowest = core.lowest
         return (core.peak_speed >= r.swipe_min_peak_speed_mm_s and core.dominance >= r.swipe_dominance
-                and lowest >= r.active_min_height_mm and core.duration <= r.swipe_max_duration_s
+                and self.raised(core, lowest) and core.duration <= r.swipe_max_duration_s
                 and core.body_speed <= r.steady_body_max_vertical_speed_mm_s)
+
+    def raised(self, stroke: Stroke, lowest: float) -> bool:
+        """Is the hand up from rest throughout the stroke? Above the rest line; or, sweeping sideways,
+        down to waist height when it sweeps outwards and ends far out on its own side: the arm is
+        then held away from the body, as a hanging arm or one swinging across the body to balance
+        a kick or a step never is."""
+        r = self.r
+        if lowest >= r.active_min_height_mm:
+            return True
+        if stroke.axis != X or self.hand.side is Side.UNKNOWN:
+            return False
+        k = self.rec.size(stroke.start)
+        outwards = (1 if self.hand.side is Side.RIGHT else -1) * (1 if self.mirrored else -1)
+        return (lowest >= r.swipe_low_min_height_mm * k and stroke.direction == outwards
+                and outwards * stroke.end.p[X] >= r.swipe_low_min_reach_mm * k)
 
     def is_swipe(self, stroke: Stroke) -> bool:
         core = self.core(stroke)
@@ -346,8 +390,10 @@ class _Hand:
         follows = pending is not None and self.comparable(stroke, pending)
         if pending is not None and not follows:
             self.emit(self.swipe_name(pending), GestureState.COMPLETE, self.swipe_confidence(pending), pending.end)
-        place = len(chain) if chain and chain[-1] is stroke else 1  # a third alternating stroke is a wave's
-        if place <= 2 and self.is_swipe(stroke) and (not follows or stroke.travel > pending.travel):
+        place = len(chain) if chain and chain[-1] is stroke else 1
+        # the third of quick alternating strokes is a wave's; a sweep slower than a wave's swing is not
+        waving = place > 2 and stroke.duration <= self.r.wave_max_stroke_s
+        if not waving and self.is_swipe(stroke) and (not follows or stroke.travel > pending.travel):
             self.tr.pending[stroke.axis] = stroke
             self.announce(self.swipe_name(stroke), stroke.start.t, self.swipe_confidence(stroke), stroke.end)
         if stroke.axis == X:

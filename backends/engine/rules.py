@@ -23,6 +23,9 @@ class GestureRules(BaseModel):
         "above the jitter of skeleton and depth hand trackers (10-20 mm), below a wave's swing")
     stroke_stop_s: float = Field(
         0.12, gt=0, description="a stroke ends when its extreme has not advanced for this long (the hand stopped)")
+    stroke_min_reversal_s: float = Field(
+        0.07, ge=0, description="a reversal that lasts no longer than this (two frames at 30 Hz) before the hand "
+        "goes on its way again is a tracker's jitter, not a motion: the strokes either side of it are one")
     track_gap_s: float = Field(
         0.1, gt=0, description="a hand not reported for longer than this (three frames at 30 Hz) left a gap: "
         "where it went meanwhile is unknown")
@@ -46,6 +49,13 @@ class GestureRules(BaseModel):
     swipe_max_duration_s: float = Field(1.0, gt=0, description="a slower stroke is a reach, not a swipe")
     swipe_min_peak_speed_mm_s: float = Field(
         1000.0, gt=0, description="peak speed along the swipe direction (a deliberate swipe peaks at 1.5-3 m/s)")
+    swipe_low_min_height_mm: float = Field(
+        -300.0, description="a sideways swipe may dip below `active_min_height_mm` down to this (relative to the "
+        "torso, for an adult; waist height), when it sweeps outwards and ends `swipe_low_min_reach_mm` out on the "
+        "hand's own side: the arm is then held away from the body")
+    swipe_low_min_reach_mm: float = Field(
+        350.0, gt=0, description="how far out from the spine, on its own side, such a low swipe must end "
+        "(beyond the shoulder: a hanging hand is 150-250 mm out)")
     swipe_dominance: float = Field(
         1.5, ge=1, description="travel along the swipe direction over the largest travel along the other axes: "
         "diagonal wind-ups and returns stay below it")

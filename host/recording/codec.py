@@ -7,7 +7,8 @@ Channels (one per kind of data, so standard MCAP tools can filter them):
   (0 = no reading) compressed with zstd (lossless). Header keys: `frame_id`, `t` (source seconds),
   `capture_time` (wall clock, s), `width`, `height`, `intrinsics` [fx, fy, cx, cy] (pixels),
   `mirrored`, `truth` (null, or the source's ground truth: `hands` {side: [x, y, z]}, `gestures`
-  [{name, side, start, end}], `body` {joint: [x, y, z]}).
+  [{name, side, start, end}], `body` {joint: [x, y, z]}, and for a scene of several performers
+  `users` [{id, hands, gestures, body}], each performer in view with the same keys).
 - `/gestures`, `json` (schema `issv.Gesture`): one message per gesture event, keys as in the event
   lines of docs/architecture.md (`t`, `name`, `native`, `state`, `hand`, `side`, `position`, `confidence`) at
   full precision, plus `seq`, the frame that carried it.
@@ -32,7 +33,7 @@ import zstandard
 
 from host import compression
 from host.model import (DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState,
-                        Intrinsics, Side, Truth, TruthGesture, User)
+                        Intrinsics, Side, Truth, TruthGesture, User, UserTruth)
 
 FORMAT = "issv-recording/1"
 DEPTH, HANDS, GESTURES, METRICS = "/depth", "/hands", "/gestures", "/metrics"
@@ -88,22 +89,38 @@ def _vec(p) -> tuple[float, float, float]:
     return (float(p[0]), float(p[1]), float(p[2]))
 
 
+def _gestures_to_json(gestures) -> list[dict]:
+    return [{"name": g.name, "side": g.side.value, "start": g.start, "end": g.end} for g in gestures]
+
+
+def _gestures_from_json(docs: list[dict]) -> tuple[TruthGesture, ...]:
+    return tuple(TruthGesture(g["name"], Side(g["side"]), float(g["start"]), float(g["end"])) for g in docs)
+
+
 def truth_to_json(truth: Truth | None) -> dict | None:
     if truth is None:
         return None
-    return {"hands": {s.value: list(p) for s, p in truth.hands.items()},
-            "gestures": [{"name": g.name, "side": g.side.value, "start": g.start, "end": g.end}
-                         for g in truth.gestures],
-            "body": {k: list(p) for k, p in truth.body.items()}}
+    doc = {"hands": {s.value: list(p) for s, p in truth.hands.items()},
+           "gestures": _gestures_to_json(truth.gestures),
+           "body": {k: list(p) for k, p in truth.body.items()}}
+    if truth.users:
+        doc["users"] = [{"id": u.id, "hands": {s.value: list(p) for s, p in u.hands.items()},
+                         "gestures": _gestures_to_json(u.gestures), "body": {k: list(p) for k, p in u.body.items()}}
+                        for u in truth.users]
+    return doc
 
 
 def truth_from_json(doc: dict | None) -> Truth | None:
+    """A recording's truth; `users` is absent from recordings of one performer and older ones."""
     if doc is None:
         return None
     return Truth(hands={Side(s): _vec(p) for s, p in doc.get("hands", {}).items()},
-                 gestures=tuple(TruthGesture(g["name"], Side(g["side"]), float(g["start"]), float(g["end"]))
-                                for g in doc.get("gestures", [])),
-                 body={k: _vec(p) for k, p in doc.get("body", {}).items()})
+                 gestures=_gestures_from_json(doc.get("gestures", [])),
+                 body={k: _vec(p) for k, p in doc.get("body", {}).items()},
+                 users=tuple(UserTruth(int(u["id"]), {Side(s): _vec(p) for s, p in u.get("hands", {}).items()},
+                                       {k: _vec(p) for k, p in u.get("body", {}).items()},
+                                       _gestures_from_json(u.get("gestures", [])))
+                             for u in doc.get("users", [])))
 
 
 def encode_depth(depth: DepthFrame) -> bytes:

@@ -256,8 +256,10 @@ def shifted_depth(depth: DepthFrame, offset: float, capture_time: float) -> Dept
     """A depth frame `offset` seconds later (ground-truth gesture intervals too), captured now."""
     truth = depth.truth
     if truth is not None and offset:
-        truth = replace(truth, gestures=tuple(replace(g, start=g.start + offset, end=g.end + offset)
-                                              for g in truth.gestures))
+        def later(gestures):
+            return tuple(replace(g, start=g.start + offset, end=g.end + offset) for g in gestures)
+        truth = replace(truth, gestures=later(truth.gestures),
+                        users=tuple(replace(u, gestures=later(u.gestures)) for u in truth.users))
     return replace(depth, timestamp=depth.timestamp + offset, capture_time=capture_time, truth=truth)
 
 

@@ -16,8 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from host import Side, Vec3
-from sources.clip import BODY_JOINTS
+from host import JOINTS, Side, Vec3
 from sources.synthetic.render import Capsule, Ellipsoid, Shape
 
 UP = np.array([0.0, 1.0, 0.0])
@@ -92,6 +91,10 @@ KNEE_SWING = np.radians(55.0)  # peak knee flexion during the swing phase
 ELBOW_POLE = np.array([0.45, -1.0, -0.35])  # elbows point out, down and back (x is per side)
 
 
+_TRUTH_NAMES = {"neck": "shoulder_centre", "left_hand": "left_palm", "right_hand": "right_palm",
+                "left_foot": "left_ankle", "right_foot": "right_ankle"}
+
+
 @dataclass(frozen=True)
 class Pose:
     """Every joint in camera millimetres, and the shapes that make the body's surface."""
@@ -109,7 +112,9 @@ class Pose:
 
     @property
     def body(self) -> dict[str, Vec3]:
-        return {name: self.point(name) for name in BODY_JOINTS}
+        """Every joint of host.JOINTS: the neck is the shoulder centre (as Kinect's), a hand the
+        palm centre (as the truth hands), a foot the ankle (as OpenNI's)."""
+        return {name: self.point(_TRUTH_NAMES.get(name, name)) for name in JOINTS}
 
 
 class Performer:
@@ -140,6 +145,7 @@ class Performer:
         rotation = self._rotation(posture.yaw)
         origin = np.array([posture.x, self.floor_y - drop, posture.z])
         joints = {name: origin + rotation @ p for name, p in local.items()}
+        joints["shoulder_centre"] = (joints["left_shoulder"] + joints["right_shoulder"]) / 2
         return Pose(joints, self._shapes(joints, rotation))
 
     def _rotation(self, yaw: float) -> np.ndarray:

@@ -50,6 +50,19 @@ def union(a: Box | None, b: Box | None) -> Box | None:
     return (min(a[0], b[0]), max(a[1], b[1]), min(a[2], b[2]), max(a[3], b[3]))
 
 
+def separate(boxes: list[Box | None]) -> list[Box]:
+    """The boxes with every overlapping group replaced by its union: performers far apart keep
+    their own small boxes, overlapping ones share one."""
+    out: list[Box] = []
+    for box in filter(None, boxes):
+        while (hit := next((b for b in out if b[0] < box[1] and box[0] < b[1] and b[2] < box[3] and box[2] < b[3]),
+                           None)) is not None:
+            out.remove(hit)
+            box = union(box, hit)
+        out.append(box)
+    return out
+
+
 class Raster:
     """Draws shapes into a float32 z-buffer (millimetres, inf = nothing there)."""
 
@@ -77,6 +90,21 @@ class Raster:
                 region = union(region, self._shape(zbuf, shape))
         return region
 
+    def draw_labelled(self, zbuf: np.ndarray, shapes: list[Shape], scratch: np.ndarray, labels: np.ndarray,
+                      label: int) -> Box | None:
+        """Draws one body over what `zbuf` holds, nearest wins, and writes `label` into `labels`
+        where it does. `scratch` (all inf, the z-buffer's size) is used and left all inf again."""
+        region = self.draw(scratch, shapes)
+        if region is None:
+            return None
+        v0, v1, u0, u1 = region
+        own, target = scratch[v0:v1, u0:u1], zbuf[v0:v1, u0:u1]
+        nearer = own < target
+        np.copyto(target, own, where=nearer)
+        np.copyto(labels[v0:v1, u0:u1], label, where=nearer)
+        own.fill(np.inf)
+        return region
+
     def _shape(self, zbuf: np.ndarray, shape: Shape) -> Box | None:
         if isinstance(shape, Capsule):
             return self._capsule(zbuf, shape)
@@ -84,14 +112,22 @@ class Raster:
 
     def _box(self, centre: np.ndarray, radius: float) -> Box | None:
         """Screen box of a sphere, conservatively (its silhouette is within r / (z - r) of the centre)."""
+        return self._clip(self._extent(centre, radius))
+
+    def _extent(self, centre: np.ndarray, radius: float) -> Box | None:
+        """A sphere's screen box, not yet clipped to the image (None: too near to draw)."""
         x, y, z = centre
         if z - radius < NEAR_MM:
             return None
         k = self.k
         u, v = k.cx + k.fx * x / z, k.cy - k.fy * y / z
         hu, hv = k.fx * radius / (z - radius), k.fy * radius / (z - radius)
-        u0, u1 = max(int(u - hu), 0), min(int(u + hu) + 2, self.width)
-        v0, v1 = max(int(v - hv), 0), min(int(v + hv) + 2, self.height)
+        return (int(v - hv), int(v + hv) + 2, int(u - hu), int(u + hu) + 2)
+
+    def _clip(self, box: Box | None) -> Box | None:
+        if box is None:
+            return None
+        v0, v1, u0, u1 = max(box[0], 0), min(box[1], self.height), max(box[2], 0), min(box[3], self.width)
         return (v0, v1, u0, u1) if u0 < u1 and v0 < v1 else None
 
     def _sphere(self, zbuf: np.ndarray, c: np.ndarray, r: float) -> Box | None:
@@ -128,8 +164,10 @@ class Raster:
 
     def _capsule(self, zbuf: np.ndarray, c: Capsule) -> Box | None:
         r = c.radius
-        box = union(self._box(c.a, r), self._box(c.b, r))
-        if box is None or min(c.a[2], c.b[2]) - r < NEAR_MM:
+        if min(c.a[2], c.b[2]) - r < NEAR_MM:
+            return None
+        box = self._clip(union(self._extent(c.a, r), self._extent(c.b, r)))  # a limb may leave the image
+        if box is None:
             return None
         (xa, ya, za), (xb, yb, zb) = map(float, c.a), map(float, c.b)
         ax, ay = xa / za, ya / za

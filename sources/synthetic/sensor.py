@@ -60,11 +60,14 @@ class KinectModel:
             lut[(lut < MIN_RANGE_MM) | (lut > MAX_RANGE_MM)] = 0
             self.lut = lut.astype(np.uint16)
 
-    def capture(self, zbuf: np.ndarray, region: Box | None) -> np.ndarray:
-        """The depth image the sensor reports; `zbuf` is consumed (holes are written into it)."""
+    def capture(self, zbuf: np.ndarray, regions: list[Box]) -> np.ndarray:
+        """The depth image the sensor reports; `zbuf` is consumed (holes are written into it).
+        `regions`: disjoint boxes holding everything in front of the room (shadows and silhouette
+        edges are looked for there)."""
         if self.holes > 0:
-            if region is not None:
+            for region in regions:
                 self._shadow(zbuf, region)
+            for region in regions:
                 self._edges(zbuf, region)
             self._dropouts(zbuf)
         return self._measure(zbuf)

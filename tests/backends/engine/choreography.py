@@ -117,6 +117,38 @@ def windup_swipe() -> Performance:
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 
 
+def low_sweep(outwards: bool = True, height: float = -230.0, travel: float = 550.0, duration: float = 0.5) -> Performance:
+    """The right hand sweeps sideways at waist height (`height` mm below the torso), outwards to end
+    far out on the performer's right, or inwards across the body (an arm balancing a kick)."""
+    inner, outer = (-100.0, height, -250.0), (-100.0 + travel, height, -250.0)
+    start, end = (inner, outer) if outwards else (outer, inner)
+    right = rest(Side.RIGHT).hold(0.3).then(0.5, start).hold(0.3).then(duration, end).hold(0.4).then(0.6, REST[Side.RIGHT])
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
+
+
+def jittered(performance: Performance, side: Side, at: float, jump: tuple[float, float, float], frames: int = 1) -> Performance:
+    """The same performance with the tracker's jitter: `side`'s hand reported `jump` mm off for
+    `frames` frames from `at` seconds (a skeleton tracker's glitch during fast motion)."""
+    path = performance.hands[side]
+
+    def glitched(t: float) -> np.ndarray:
+        return path(t) + (np.array(jump) if at <= t < at + frames / FPS else 0.0)
+
+    return Performance({**performance.hands, side: glitched}, performance.duration, performance.torso,
+                       performance.mirrored)
+
+
+def sweeps(times: int = 4, travel: float = 600.0, seconds: float = 0.7) -> Performance:
+    """The right hand sweeps left and right `times` times at chest height without pausing, each
+    sweep `travel` mm in `seconds` (slower than any wave's swing): swiping back and forth."""
+    left, right_ = (RAISED[0] - travel, RAISED[1], RAISED[2]), RAISED
+    right = rest(Side.RIGHT).hold(0.3).then(0.6, RAISED).hold(0.3)
+    for i in range(times):
+        right = right.then(seconds, left if i % 2 == 0 else right_)
+    right = right.hold(0.4).then(0.8, REST[Side.RIGHT])
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
+
+
 def wave(swings: int = 6, amplitude: float = 240.0, half_period: float = 0.2, height: float = 450.0) -> Performance:
     """The right hand up beside the head, swinging side to side `swings` times."""
     centre = (250.0, height, -350.0)

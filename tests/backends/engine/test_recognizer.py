@@ -56,6 +56,27 @@ def test_the_wind_up_before_a_swipe_is_not_a_swipe_the_other_way():
     assert not [e for e in events if e.name == "swipe_right"]
 
 
+def test_a_swipe_at_waist_height_sweeping_out_is_a_swipe_one_sweeping_across_the_body_is_not():
+    """Below the rest line (150 mm under the torso) only an outward sweep ending far out on the hand's
+    own side is a swipe: the arm is held away from the body. Sweeping across the body at that height
+    is how an arm balances a kick or a step (MSRC-12's kicks)."""
+    assert completed(perform(c.low_sweep(outwards=True))) == ["swipe_right"]
+    assert completed(perform(c.low_sweep(outwards=False))) == []
+    assert completed(perform(c.low_sweep(outwards=True, height=-330.0))) == []  # a hanging hand's height
+
+
+def test_a_swipe_with_a_tracker_glitch_is_still_one_swipe():
+    """Two halves of 250 mm each are no swipe on their own: the reversal between them lasts a frame."""
+    swipe = c.swipe(travel=500, duration=0.5)
+    middle = swipe.hands[Side.RIGHT].keys[3][0] + 0.25  # halfway through the sweep
+    assert completed(perform(c.jittered(swipe, Side.RIGHT, middle, jump=(120.0, 0.0, 0.0)))) == ["swipe_left"]
+
+
+def test_swiping_back_and_forth_slower_than_a_wave_gives_swipes_and_no_wave():
+    """Each sweep is a swipe (MSRC-12's 'push right', repeated without a pause, looks like this)."""
+    assert completed(perform(c.sweeps(times=4))) == ["swipe_left", "swipe_right"] * 2
+
+
 @pytest.mark.parametrize("with_body", [True, False], ids=["skeleton", "hands-only"])
 def test_walking_two_metres_with_swinging_arms_is_nothing(with_body):
     assert completed(perform(c.walk(distance=2000, duration=2.5), with_body=with_body)) == []
