@@ -5,8 +5,8 @@ A hand grabs the sphere it is within the radius of when it does the grab gesture
 and lets go with the release gesture, when it has been out of sight for a moment (the thesis'
 only way), or after a hold timeout. Two spheres are linked when one is being carried and they
 touch (centre distance <= sum of radii) for `touch_s`, so that a tracker's one-frame jump of the
-hand links nothing; a link is a time-successor relation read left to right
-(the sphere further left comes first), and links chain into observation sequences.
+hand links nothing; a link is a time-successor relation read left to right (the sphere further
+left comes first), and links chain into observation sequences.
 
 Hands are named by who holds them (`HandKey`, e.g. "user 1 right hand"), not by a backend's hand
 id: a backend that reports resting hands keeps a user's left and right hand apart however their
@@ -21,7 +21,6 @@ from dataclasses import dataclass, field
 from typing import NamedTuple
 
 from host import Vec3
-
 
 
 class HandKey(NamedTuple):
