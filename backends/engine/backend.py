@@ -16,7 +16,7 @@ from pydantic import Field
 from backends.engine.geometry import KINECT_V1, to_geometry
 from backends.engine.recognizer import NITE_DICTIONARY, NUITRACK_DICTIONARY, GestureRecognizer
 from backends.engine.rules import GestureRules
-from backends.engine.sides import RestingHands
+from backends.engine.sides import nuitrack_id, renamed_gesture, renamed_hand, user_hand_id
 from backends.engine.tracker import HandTracker, TrackerOptions, TrackResult
 from host import Backend, DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState
 
@@ -68,8 +68,8 @@ class EngineBackend(Backend):
     geometry: ClassVar[tuple | None] = None
     #: what the backend says about itself when it starts (None: nothing to say).
     note: ClassVar[str | None] = None
-    #: a left and a right hand whenever a user is in view, resting ones where they hang (Nuitrack's way).
-    both_hands: ClassVar[bool] = False
+    #: Nuitrack's hand ids (left 1, right 2) rather than the engine's (10 * user + 1 or + 2).
+    nuitrack_ids: ClassVar[bool] = False
 
     @classmethod
     def recognizer(cls, options: EngineOptions | None = None) -> GestureRecognizer:
@@ -89,9 +89,7 @@ class EngineBackend(Backend):
         self._seq = 0
         self._focused: set[int] = set()
         self._shown: set[int] = set()
-        rules, o = self.options.gestures, self.options
-        self._sides = (RestingHands(rules.rest_below_torso_mm, rules.rest_in_front_of_torso_mm,
-                                    o.hands.shoulder_half_width_mm, o.lost_timeout_s) if self.both_hands else None)
+        self._ids = nuitrack_id if self.nuitrack_ids else user_hand_id(1)
 
     def update(self) -> Frame | None:
         depth = self.source.read()
@@ -100,14 +98,13 @@ class EngineBackend(Backend):
         if self.geometry is not None:
             depth = to_geometry(depth, *self.geometry)
         result, gestures = self.engine.step(depth)
+        gestures = self._named(gestures)
         hands: tuple[Hand, ...] = ()
-        if self.tracking_hands:
-            hands = self._reported_hands(result.hands, gestures)
-            if self._sides is not None:
-                hands = self._sides.present(depth.timestamp, hands, result.body, depth.mirrored)
+        if self.tracking_hands:  # both of the user's hands (skeleton.py), resting ones included
+            hands = self._reported_hands(tuple(renamed_hand(h, self._ids) for h in result.user_hands), gestures)
         self._seq += 1
         return Frame(self._seq, depth.capture_time, depth, hands,
-                     self._named(gestures) if self.detecting_gestures else (), self.name,
+                     tuple(gestures) if self.detecting_gestures else (), self.name,
                      make_user_mask=lambda: result.full_mask(depth))
 
     def finish(self) -> tuple[Gesture, ...]:
@@ -117,13 +114,12 @@ class EngineBackend(Backend):
         return self._named(self.engine.recognizer.finish())
 
     def _named(self, gestures: list[Gesture]) -> tuple[Gesture, ...]:
-        """The gestures, naming their hands as this mode's hands are named (Nuitrack: by side)."""
-        if self._sides is None:
-            return tuple(gestures)
-        return tuple(self._sides.gesture(g) for g in gestures)
+        """The gestures, naming their hands as the reported hands are named (by side)."""
+        return tuple(renamed_gesture(g, self._ids) for g in gestures)
 
-    def _reported_hands(self, hands: tuple[Hand, ...], gestures: list[Gesture]) -> tuple[Hand, ...]:
-        """All hands, or (focus mode) only those that made a focus gesture, NEW from that frame on."""
+    def _reported_hands(self, hands: tuple[Hand, ...], gestures: tuple[Gesture, ...]) -> tuple[Hand, ...]:
+        """All hands, or (focus mode) only those that made a focus gesture, NEW from that frame on
+        and kept while the user is in view (a focused hand dropping to rest is not lost)."""
         if not self.focus_gestures:
             return hands
         for g in gestures:
@@ -191,8 +187,8 @@ class OpenISSNuitrackBackend(EngineBackend):
 
     name = "openiss-nuitrack"
     dictionary = NUITRACK_DICTIONARY
-    both_hands = True
+    nuitrack_ids = True
     #: what runs in place of the middleware (the SDK adapter says it too when it falls back)
     engine_mode = ("the open engine in Nuitrack mode (six gestures; a left and a right hand while a user is "
-                   "in view, resting ones with confidence 0)")
+                   "in view, resting ones where the depth shows them hang)")
     note = f"Nuitrack runtime not used: running {engine_mode}"

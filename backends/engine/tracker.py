@@ -12,7 +12,7 @@ not a new hand.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from itertools import permutations
 
 import cv2
@@ -21,9 +21,10 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.hands import Candidate, HandDetector, HandOptions
 from backends.engine.segmentation import SegmentationOptions, Segmenter
+from backends.engine.skeleton import SkeletonEstimator, SkeletonOptions
 from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
 from backends.engine.trunk import BodyEstimator, BodyOptions
-from host import DepthFrame, Hand, HandState, Side, Vec3
+from host import DepthFrame, Hand, HandState, Joint, Side, Vec3
 
 
 class TrackerOptions(BaseModel):
@@ -55,6 +56,7 @@ class TrackerOptions(BaseModel):
     segmentation: SegmentationOptions = SegmentationOptions()
     body: BodyOptions = BodyOptions()
     hands: HandOptions = HandOptions()
+    skeleton: SkeletonOptions = SkeletonOptions()
 
 
 @dataclass(frozen=True)
@@ -66,6 +68,12 @@ class TrackResult:
     seen: frozenset[int] = frozenset()  # ids of the hands found in this frame (others are held or lost)
     mask: np.ndarray | None = None  # (h, w) bool on the internal grid; full_mask() for the image's size
     grid_z: np.ndarray | None = None  # the grid's depth (mm), to refine the mask at full resolution
+    #: the user's joints (host.JOINTS names) and centre of mass; empty/None while no user is seen
+    joints: dict[str, Joint] = field(default_factory=dict)
+    center_of_mass: Vec3 | None = None
+    #: both hands for as long as the user is in view (resting ones with extended False), one id
+    #: per side; `hands` are the tracker's extended hands, which the recogniser follows
+    user_hands: tuple[Hand, ...] = ()
 
     def full_mask(self, depth: DepthFrame, tolerance_mm: float = 250.0) -> np.ndarray | None:
         """The user's silhouette at the depth image's resolution (for silhouette effects): pixels
@@ -103,6 +111,8 @@ class HandTracker:
         self.segmenter = Segmenter(self.options.segmentation)
         self.body_estimator = BodyEstimator(self.options.body, self.options.body_smoothing)
         self.detector = HandDetector(self.options.hands)
+        self.skeleton = SkeletonEstimator(self.options.skeleton)
+        self._user_seen: float | None = None
         self._tracks: list[_Track] = []
         self._next_id = 1
 
@@ -113,12 +123,16 @@ class HandTracker:
         if body is None:
             self.body_estimator.reset()
             hands = self._update_tracks(t, [], None, depth.mirrored)
-            return TrackResult(hands, {})
+            gone = self._user_seen is not None and t - self._user_seen > self.options.lost_timeout_s
+            return TrackResult(hands, {}, user_hands=self.skeleton.lost() if gone else ())
+        self._user_seen = t
         candidates = self.detector.detect(seg, body)
         hands = self._update_tracks(t, candidates, body.torso, depth.mirrored)
         points = {"torso": _vec(body.torso), "head": _vec(body.head)}
         seen = frozenset(track.id for track in self._tracks if track.seen == t)
-        return TrackResult(hands, points, seen, seg.mask, seg.grid.z)
+        skeleton = self.skeleton.estimate(seg, body, hands, depth.mirrored)
+        return TrackResult(hands, points, seen, seg.mask, seg.grid.z, skeleton.joints, skeleton.center_of_mass,
+                           skeleton.hands)
 
     # -- tracks ------------------------------------------------------------------------------
     def _update_tracks(self, t: float, found: list[Candidate], torso: np.ndarray | None,

@@ -126,13 +126,13 @@ class NetworkBackend(Backend):
         """The oldest waiting hands message as a frame, named after the backend that made it."""
         _, head = self._hands.popleft()
         self._backend = head.backend
-        return self._frame(head.header.capture_time, head.hands)
+        return self._frame(head.header.capture_time, head.hands, head.users)
 
-    def _frame(self, capture_time: float, hands) -> Frame:
+    def _frame(self, capture_time: float, hands, users=()) -> Frame:
         gestures, self._gestures = tuple(self._gestures), []
         self._seq += 1
         return Frame(self._seq, capture_time, self._depth, tuple(hands) if self.tracking_hands else (),
-                     gestures if self.detecting_gestures else (), self._backend)
+                     gestures if self.detecting_gestures else (), self._backend, users=tuple(users))
 
     def _flush(self) -> Frame | None:
         """The publisher ended: deliver what is still waiting, then end the stream."""

@@ -195,7 +195,7 @@ class Publisher:
             self.seq["hands"] += 1
             self.events.send(wire.encode_hands(self.session, self.seq["hands"], frame.capture_time, frame.seq,
                                                frame.timestamp, frame.backend or self.backend, frame.hands,
-                                               with_depth))
+                                               with_depth, frame.users))
             if with_depth and self.depth_options.codec in INLINE_CODECS:
                 self._worker.send(frame.seq, frame.capture_time, frame.depth)
             elif with_depth:

@@ -10,7 +10,7 @@ type names, same MD5 sums). Each message keeps the thesis' fields verbatim and a
 session) and what issv's Gesture, Hand and DepthFrame carry beyond the thesis.
 
 Topics under the namespace (default /openiss): gestures (openiss/Gesture, one per event), hands
-(openiss/Hands, one per frame), depth (openiss/DepthFrame), depth_image (sensor_msgs/Image 16UC1,
+(openiss/Hands, one per frame: the hands and the users, openiss/User with their openiss/Joint), depth (openiss/DepthFrame), depth_image (sensor_msgs/Image 16UC1,
 millimetres, REP 118) with camera_info (sensor_msgs/CameraInfo), and status (std_msgs/String: the
 JSON heartbeat and goodbye of wire.py). Depth here is raw, as in the thesis: that is what ROS carries.
 """
@@ -27,12 +27,13 @@ import numpy as np
 from backends.network import wire
 from backends.network.publisher import HEARTBEAT_S, DepthGate, DepthOptions
 from backends.network.subscriber import Accounting, Notice, stderr_notice
-from host import (DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics,
-                  PluginUnavailable, Side)
+from host import (DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics, Joint,
+                  PluginUnavailable, Side, User)
 
 DEBIAN_DIST = "/usr/lib/python3/dist-packages"
 GESTURE_TYPES, GESTURE_STATES = list(GestureType), list(GestureState)
 HAND_STATES, SIDES = list(HandState), list(Side)
+EXTENDED = {True: 1, False: 0, None: -1}  # Hand.extended as the int8 of openiss/Hand
 
 MSGS = {
     "Gesture": """# Thesis Listing 4.5 (gesture_type, gesture_position) plus issv's Gesture fields
@@ -45,6 +46,7 @@ uint8 hand_side
 float64 confidence
 float64 source_time
 uint32 frame_seq
+uint16 user_id
 """,
     "Hand": """# Thesis Listing 4.6 (hand_id, hand_state, hand_position) plus issv's Hand fields
 uint16 hand_id
@@ -54,14 +56,28 @@ uint8 hand_status
 uint8 hand_side
 uint16 user_id
 float64 confidence
+int8 extended
 """,
-    "Hands": """# The tracked hands of one frame
+    "Hands": """# The tracked hands and users of one frame
 Header header
 Hand[] hands
 uint32 frame_seq
 float64 source_time
 bool depth
 string backend
+User[] users
+""",
+    "User": """# A tracked person (NiTE's and Nuitrack's user): user_status as hand_status, joints in mm
+uint16 user_id
+uint8 user_status
+Joint[] joints
+bool has_center_of_mass
+geometry_msgs/Point center_of_mass
+""",
+    "Joint": """# One body joint: head, neck, torso, left_shoulder ... (issv's JOINTS), mm, confidence 0..1
+string name
+geometry_msgs/Point position
+float64 confidence
 """,
     "DepthFrame": """# Thesis Listing 4.7 (depth_data .. frame_timestamp) plus intrinsics and mirroring
 Header header
@@ -117,11 +133,11 @@ def messages() -> dict[str, type]:
     for name in ("Gesture", "Hands", "DepthFrame"):
         cat = MSGS[name] + "".join(f"{sep}{t}\n{text}" for t, text in deps.items())
         if name == "Hands":
-            cat += f"{sep}openiss/Hand\n{MSGS['Hand']}"
+            cat += "".join(f"{sep}openiss/{part}\n{MSGS[part]}" for part in ("Hand", "User", "Joint"))
         classes = genpy.dynamic.generate_dynamic(f"openiss/{name}", cat)
         out[name] = classes[f"openiss/{name}"]
         if name == "Hands":
-            out["Hand"] = classes["openiss/Hand"]
+            out.update({part: classes[f"openiss/{part}"] for part in ("Hand", "User", "Joint")})
     out["DepthFrame"] = numpy_msg(out["DepthFrame"])
     return out
 
@@ -150,6 +166,10 @@ def node(master: str | None) -> None:
 def _stamp(t: float):
     import rospy
     return rospy.Time.from_sec(max(0.0, t))
+
+
+def _xyz(point) -> tuple[float, float, float]:
+    return (point.x, point.y, point.z)
 
 
 def _session(frame_id: str) -> int:
@@ -196,7 +216,7 @@ class RosPublisher:
                 header=self._header(capture_time), gesture_type=GESTURE_TYPES.index(g.type),
                 gesture_position=gm.Point(*g.position), gesture_state=GESTURE_STATES.index(g.state),
                 hand_id=g.hand_id, hand_side=SIDES.index(g.side), confidence=g.confidence,
-                source_time=g.timestamp, frame_seq=frame_seq))
+                source_time=g.timestamp, frame_seq=frame_seq, user_id=g.user_id))
 
     def publish_end(self, gestures: tuple[Gesture, ...]) -> None:
         """Gestures the end of the source completed: sent after the last frame, before the end."""
@@ -210,11 +230,19 @@ class RosPublisher:
         depth = self._depth(frame)
         hands = [m["Hand"](hand_id=h.id, hand_state=h.state in (HandState.NEW, HandState.TRACKING),
                            hand_position=gm.Point(*h.position), hand_status=HAND_STATES.index(h.state),
-                           hand_side=SIDES.index(h.side), user_id=h.user_id, confidence=h.confidence)
+                           hand_side=SIDES.index(h.side), user_id=h.user_id, confidence=h.confidence,
+                           extended=EXTENDED[h.extended])
                  for h in frame.hands]
+        users = [m["User"](user_id=u.id, user_status=HAND_STATES.index(u.state),
+                           joints=[m["Joint"](name=name, position=gm.Point(*j.position), confidence=j.confidence)
+                                   for name, j in u.joints.items()],
+                           has_center_of_mass=u.center_of_mass is not None,
+                           center_of_mass=gm.Point(*(u.center_of_mass or (0.0, 0.0, 0.0))))
+                 for u in frame.users]
         self.pubs["hands"].publish(m["Hands"](header=self._header(frame.capture_time), hands=hands,
                                               frame_seq=frame.seq, source_time=frame.timestamp,
-                                              depth=depth is not None, backend=frame.backend or self.backend))
+                                              depth=depth is not None, backend=frame.backend or self.backend,
+                                              users=users))
         if depth is not None:
             self._publish_depth(frame, depth)
         if time.monotonic() - self._last_status >= HEARTBEAT_S:
@@ -328,15 +356,17 @@ class RosSubscriber:
     def _gesture(self, g) -> wire.GestureMsg:
         p = g.gesture_position
         gesture = Gesture(GESTURE_TYPES[g.gesture_type], GESTURE_STATES[g.gesture_state], (p.x, p.y, p.z),
-                          g.hand_id, SIDES[g.hand_side], g.confidence, g.source_time)
+                          g.hand_id, SIDES[g.hand_side], g.confidence, g.source_time, g.user_id)
         return wire.GestureMsg(self._header(g.header, wire.GESTURE), g.frame_seq, gesture)
 
     def _hands(self, msg) -> wire.HandsMsg:
-        hands = tuple(Hand(h.hand_id, HAND_STATES[h.hand_status], (h.hand_position.x, h.hand_position.y,
-                                                                  h.hand_position.z),
-                           SIDES[h.hand_side], h.user_id, h.confidence) for h in msg.hands)
+        hands = tuple(Hand(h.hand_id, HAND_STATES[h.hand_status], _xyz(h.hand_position), SIDES[h.hand_side],
+                           h.user_id, h.confidence, {1: True, 0: False}.get(h.extended)) for h in msg.hands)
+        users = tuple(User(u.user_id, HAND_STATES[u.user_status],
+                           {j.name: Joint(_xyz(j.position), j.confidence) for j in u.joints},
+                           _xyz(u.center_of_mass) if u.has_center_of_mass else None) for u in msg.users)
         return wire.HandsMsg(self._header(msg.header, wire.HANDS), msg.frame_seq, msg.source_time,
-                             msg.backend[:64], hands, msg.depth)
+                             msg.backend[:64], hands, msg.depth, users)
 
     def _depth_frame(self, d) -> wire.DepthMsg:
         data = np.asarray(d.depth_data, dtype=np.uint16)

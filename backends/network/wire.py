@@ -3,7 +3,7 @@
 Every message starts with the same 32-byte header, little-endian:
 
     magic  b"ISSV"   4 bytes
-    version u8       (1)
+    version u8       (2; version 1, without users, is still read)
     kind    u8       DEPTH 1, HANDS 2, GESTURE 3, HEARTBEAT 4, BYE 5
     flags   u16      (0)
     session u64      random per publisher run: a new value means the publisher restarted
@@ -11,7 +11,10 @@ Every message starts with the same 32-byte header, little-endian:
     capture f64      wall-clock time (time.time()) when the sensor captured the frame
 
 then the body. HANDS, GESTURE, HEARTBEAT and BYE bodies are compact JSON (small, readable from any
-language). A DEPTH body is a fixed binary block followed by the compressed image:
+language). Version 2 added the users: a HANDS body's `users` (id, state, centre of mass `com`,
+`joints` {name: [x, y, z, confidence]}), a ninth value per hand row (`extended`: true, false or
+null) and a GESTURE body's `user`; version 1 messages decode with no users, `extended` null and
+user 1. A DEPTH body is a fixed binary block followed by the compressed image:
 
     frame_seq u64, frame_id u64, timestamp f64, width u16, height u16, codec u8, mirrored u8,
     2 pad bytes, fx f64, fy f64, cx f64, cy f64     (the intrinsics of the image as sent, so a
@@ -35,17 +38,19 @@ from typing import Callable, TypeVar
 import numpy as np
 import zstandard
 
-from host import DepthFrame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics, Side
+from host import DepthFrame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics, Joint, Side, User
 from host import compression
 
 MAGIC = b"ISSV"
-VERSION = 1
+VERSION = 2
+READS = (1, 2)  # versions decoded
 DEPTH, HANDS, GESTURE, HEARTBEAT, BYE = 1, 2, 3, 4, 5
 STREAMS = {DEPTH: "depth", HANDS: "hands", GESTURE: "gestures"}
 HEADER = struct.Struct("<4sBBHQQd")
 DEPTH_BODY = struct.Struct("<QQdHHBB2x4d")
 MAX_PIXELS = 4096 * 4096  # refuse to allocate more than this for one depth image
 MAX_JSON = 1 << 20
+MAX_USERS, MAX_JOINTS, MAX_NAME = 16, 32, 32
 T = TypeVar("T")
 
 
@@ -82,6 +87,7 @@ class HandsMsg:
     backend: str
     hands: tuple[Hand, ...]
     depth: bool
+    users: tuple[User, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -314,16 +320,20 @@ def _json(kind: int, session: int, seq: int, capture_time: float, body: dict) ->
 
 
 def encode_hands(session: int, seq: int, capture_time: float, frame_seq: int, timestamp: float,
-                 backend: str, hands: tuple[Hand, ...], depth: bool) -> bytes:
+                 backend: str, hands: tuple[Hand, ...], depth: bool, users: tuple[User, ...] = ()) -> bytes:
     return _json(HANDS, session, seq, capture_time, {
         "frame": frame_seq, "t": timestamp, "backend": backend, "depth": depth,
-        "hands": [[h.id, h.state.value, *h.position, h.side.value, h.user_id, h.confidence] for h in hands]})
+        "hands": [[h.id, h.state.value, *h.position, h.side.value, h.user_id, h.confidence, h.extended]
+                  for h in hands],
+        "users": [{"id": u.id, "state": u.state.value,
+                   "com": None if u.center_of_mass is None else list(u.center_of_mass),
+                   "joints": {name: [*j.position, j.confidence] for name, j in u.joints.items()}} for u in users]})
 
 
 def encode_gesture(session: int, seq: int, capture_time: float, frame_seq: int, g: Gesture) -> bytes:
     return _json(GESTURE, session, seq, capture_time, {
         "frame": frame_seq, "type": g.type.value, "state": g.state.value, "position": list(g.position),
-        "hand": g.hand_id, "side": g.side.value, "confidence": g.confidence, "t": g.timestamp,
+        "hand": g.hand_id, "side": g.side.value, "confidence": g.confidence, "t": g.timestamp, "user": g.user_id,
         **({"name": g.label} if g.label else {}), **({"hands": list(g.hands)} if g.hands else {})})
 
 
@@ -339,8 +349,8 @@ def decode(data: bytes) -> Message:
     magic, version, kind, _flags, session, seq, capture = HEADER.unpack_from(data)
     if magic != MAGIC:
         raise WireError("bad-magic", f"starts with {magic!r}, not {MAGIC!r}")
-    if version != VERSION:
-        raise WireError("bad-version", f"version {version}, this issv speaks {VERSION}")
+    if version not in READS:
+        raise WireError("bad-version", f"version {version}, this issv reads {' and '.join(map(str, READS))}")
     if not math.isfinite(capture):
         raise WireError("bad-field", "capture time is not a finite number")
     h = Header(kind, session, seq, capture)
@@ -404,9 +414,24 @@ def _vec(v: object) -> tuple[float, float, float]:
 
 
 def _hand(row: object) -> Hand:
-    if not isinstance(row, list) or len(row) != 8:
-        raise ValueError(f"expected a hand row of 8 values, got {row!r}")
-    return Hand(_int(row[0]), HandState(row[1]), _vec(row[2:5]), Side(row[5]), _int(row[6]), _num(row[7]))
+    if not isinstance(row, list) or len(row) not in (8, 9):
+        raise ValueError(f"expected a hand row of 8 values (9 with extended), got {row!r}")
+    extended = row[8] if len(row) == 9 else None
+    if extended is not None and not isinstance(extended, bool):
+        raise ValueError(f"extended must be true, false or null, got {extended!r}")
+    return Hand(_int(row[0]), HandState(row[1]), _vec(row[2:5]), Side(row[5]), _int(row[6]), _num(row[7]), extended)
+
+
+def _user(d: object) -> User:
+    if not isinstance(d, dict) or not isinstance(d["joints"], dict) or len(d["joints"]) > MAX_JOINTS:
+        raise ValueError(f"a user must be an object with at most {MAX_JOINTS} joints")
+    joints = {}
+    for name, row in d["joints"].items():
+        if len(name) > MAX_NAME or not isinstance(row, list) or len(row) != 4:
+            raise ValueError(f"joint {name[:MAX_NAME]!r}: expected a short name and [x, y, z, confidence]")
+        joints[name] = Joint(_vec(row[:3]), _num(row[3]))
+    com = d["com"]
+    return User(_int(d["id"]), HandState(d["state"]), joints, None if com is None else _vec(com))
 
 
 def _hands(h: Header, d: dict) -> HandsMsg:
@@ -414,13 +439,13 @@ def _hands(h: Header, d: dict) -> HandsMsg:
     if not isinstance(rows, list) or not isinstance(d["backend"], str):
         raise ValueError("hands must be a list and backend a string")
     return HandsMsg(h, _int(d["frame"]), _num(d["t"]), d["backend"][:64], tuple(_hand(r) for r in rows),
-                    bool(d["depth"]))
+                    bool(d["depth"]), tuple(_user(u) for u in _list(d.get("users", []), MAX_USERS)))
 
 
 def _gesture(h: Header, d: dict) -> GestureMsg:
     g = Gesture(GestureType(d["type"]), GestureState(d["state"]), _vec(d["position"]), _int(d["hand"]),
                 Side(d["side"]), _num(d["confidence"]), _num(d["t"]), label=_label(d.get("name", "")),
-                hands=tuple(_int(i) for i in _list(d.get("hands", []), 2)))
+                hands=tuple(_int(i) for i in _list(d.get("hands", []), 2)), user_id=_int(d.get("user", 1)))
     return GestureMsg(h, _int(d["frame"]), g)
 
 

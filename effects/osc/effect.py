@@ -15,12 +15,14 @@ from host import CANONICAL_GESTURES, Effect, Frame, Gesture, GestureType, Hand, 
 
 from effects.osc.coords import Projector, Space
 from effects.osc.destinations import Address, Destination, Warn, warn_stderr
-from effects.osc.presets import (OSCELETON_TEXT, SYNAPSE_TEXT, TEMPLATE_TEXT, OSCeletonScheme, SynapseScheme,
-                                 Template, TemplateScheme)
+from effects.osc.keepalive import KeepAlive
+from effects.osc.osceleton import OSCELETON_TEXT, OSCeletonScheme
+from effects.osc.presets import TEMPLATE_TEXT, Template, TemplateScheme
+from effects.osc.synapse import SYNAPSE_TEXT, SynapseScheme
 from effects.osc.schema import DEFAULT_PREFIX, SCHEMA_TEXT, IssvScheme, Scheme
 from host.osc import Message, encode, encode_bundle
 
-SCHEMES = {"issv": IssvScheme, "osceleton": OSCeletonScheme, "synapse": SynapseScheme}
+SCHEMES = {"issv": IssvScheme, "osceleton": OSCeletonScheme}
 DEFAULT_DESTINATION = {"issv": "127.0.0.1:9000", "osceleton": "127.0.0.1:7110", "synapse": "127.0.0.1:12345",
                        "custom": "127.0.0.1:9000"}
 SCHEME_TEXT = {"issv": SCHEMA_TEXT, "osceleton": OSCELETON_TEXT, "synapse": SYNAPSE_TEXT, "custom": TEMPLATE_TEXT}
@@ -51,6 +53,9 @@ class OscOptions(BaseModel):
     rate: float = Field(0.0, ge=0)  # at most this many hand bundles per second; 0: every frame
     pd_safe: bool = True  # only i, f, s types (Pd 0.53's oscparse rejects T, F, N, h, d)
     messages: list[Template] = []
+    keepalive: str = Field("0.0.0.0:12346", description="scheme synapse only: HOST:PORT where clients' "
+                           "/<joint>_trackjointpos keep-alives arrive (Synapse's 12346); \"off\": send every "
+                           "joint's positions in every space, unasked")
 
     @field_validator("destinations", mode="before")
     @classmethod
@@ -76,6 +81,13 @@ class OscOptions(BaseModel):
     def _check(self):
         if self.scheme == "custom" and not self.messages:
             raise ValueError('scheme "custom" sends only the templates: add [[effects.messages]] tables')
+        if "keepalive" in self.model_fields_set and self.scheme != "synapse":
+            raise ValueError('keepalive is Synapse\'s keep-alive port: it needs scheme = "synapse"')
+        if self.keepalive != "off":
+            try:
+                Address.parse(self.keepalive)
+            except ValueError as error:
+                raise ValueError(f'keepalive: {error}, or "off"') from None
         near, far = self.depth_range
         if not 0 <= near < far:
             raise ValueError("depth_range must be [near, far] millimetres with 0 <= near < far")
@@ -100,6 +112,9 @@ class OscEffect(Effect):
         o = self.options
         prefix = o.prefix if o.prefix is not None else (DEFAULT_PREFIX if o.scheme == "issv" else "")
         self.schemes: list[Scheme] = [SCHEMES[o.scheme](prefix)] if o.scheme in SCHEMES else []
+        if o.scheme == "synapse":
+            listen = None if o.keepalive == "off" else Address.parse(o.keepalive)
+            self.schemes.append(SynapseScheme(prefix, KeepAlive(listen, self.warn, prefix)))
         if o.messages:
             self.schemes.append(TemplateScheme(o.messages, prefix))
         self.projector = Projector(o.space, stage, o.depth_range)
@@ -166,3 +181,5 @@ class OscEffect(Effect):
     def close(self) -> None:
         for destination in getattr(self, "destinations", ()):
             destination.close()
+        for scheme in getattr(self, "schemes", ()):
+            scheme.close()

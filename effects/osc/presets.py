@@ -1,9 +1,6 @@
-"""Compatibility presets, so patches written for older Kinect-to-OSC bridges keep working,
-and templates, for patches that expect addresses of their own.
-
-- OSCeleton (Sensebloom): `/joint s i f f f` and the user messages.
-- Synapse (Ryan Challinor): `/righthand_pos_world f f f` and friends, gesture words per joint.
-- templates: `[[effects.messages]]` tables with `{field}` placeholders.
+"""Templates, for patches that expect addresses of their own (`[[effects.messages]]` tables with
+`{field}` placeholders), and what the bridge presets share (osceleton.py, synapse.py): the side a
+hand is reported as, and positions as a mirror shows them.
 """
 from __future__ import annotations
 
@@ -14,41 +11,8 @@ from pydantic import BaseModel, ConfigDict, model_validator
 
 from effects.osc.coords import Projector
 from effects.osc.schema import Scheme
-from host import Frame, Gesture, Hand, Side
+from host import Frame, Gesture, Hand, Side, Vec3
 from host.osc import Arg, Message, placeholders, typed
-
-OSCELETON_TEXT = """\
-OSCeleton preset (scheme = "osceleton"; default destination 127.0.0.1:7110)
-
-  /new_user   i            user         a user's first hand appears
-  /new_skel   i            user         (sent with /new_user: joints follow)
-  /joint      s i f f f    joint, user, x, y, z        per hand, per frame
-  /lost_user  i            user         the user's last hand is gone
-
-joint  r_hand | l_hand (a hand of unknown side takes the user's free side)
-x      (X + 1280) / 2560: 0..1 over -1.28..1.28 m, growing towards the image's right
-y      (960 - Y) / 1920:  0..1 over 0.96..-0.96 m, growing downwards
-z      Z / 1280:          0..7.8 over 0..10 m (OSCeleton's Z * 7.8125 / 10000)
-OSCeleton had no gestures: add templates (messages) to send them.
-"""
-
-SYNAPSE_TEXT = """\
-Synapse preset (scheme = "synapse"; default destination 127.0.0.1:12345)
-
-  /tracking_skeleton     i        1 when hands appear, 0 when they are all gone
-  /righthand_pos_world   f f f    x, y, z millimetres (camera: x right, y up, z away)
-  /righthand_pos_screen  f f f    u, v pixels in a 640x480 depth image, z millimetres
-  /lefthand_pos_world    f f f
-  /lefthand_pos_screen   f f f
-  /righthand             s        a gesture word, when a gesture completes
-  /lefthand              s
-
-words  left, right, up, down (swipes, from the performer's point of view),
-       forward (click / push), and, beyond Synapse's own words, wave, hand_raise
-One user (the lowest user id); a hand of unknown side takes the free side. Synapse's
-_pos_body needs the torso, which hand trackers do not report: it is not sent. No
-keep-alive (/..._trackjointpos) is needed: positions are always sent.
-"""
 
 TEMPLATE_TEXT = """\
 Templates (option messages; with scheme = "custom" they are all that is sent)
@@ -86,70 +50,6 @@ def sided(hands: list[Hand]) -> list[tuple[Hand, Side]]:
             taken.add((hand.user_id, side))
         out.append((hand, side))
     return out
-
-
-class OSCeletonScheme(Scheme):
-    JOINTS = {Side.RIGHT: "r_hand", Side.LEFT: "l_hand"}
-
-    def __init__(self, prefix: str = "") -> None:
-        self.prefix = prefix
-        self._users: set[int] = set()
-
-    def frame(self, frame: Frame, hands: list[Hand], gone: list[Hand], to: Projector) -> list[Message]:
-        p = self.prefix
-        users = {h.user_id for h in hands}
-        messages = []
-        for user in sorted(users - self._users):
-            messages += [Message(f"{p}/new_user", (("i", user),)), Message(f"{p}/new_skel", (("i", user),))]
-        for hand, side in sided(hands):
-            x, y, z = hand.position
-            messages.append(Message(f"{p}/joint", (("s", self.JOINTS[side]), ("i", hand.user_id),
-                                                   ("f", (x + 1280) / 2560), ("f", (960 - y) / 1920),
-                                                   ("f", z / 1280))))
-        messages += [Message(f"{p}/lost_user", (("i", user),)) for user in sorted(self._users - users)]
-        self._users = users
-        return messages
-
-
-class SynapseScheme(Scheme):
-    JOINTS = {Side.RIGHT: "righthand", Side.LEFT: "lefthand"}
-    WORDS = {"swipe_left": "left", "swipe_right": "right", "swipe_up": "up", "swipe_down": "down",
-             "click": "forward", "wave": "wave", "hand_raise": "hand_raise"}
-    SCREEN = (640, 480)
-
-    def __init__(self, prefix: str = "") -> None:
-        self.prefix = prefix
-        self._tracking = False
-        self._joint_of: dict[int, str] = {}  # hand id -> joint, in the last frame
-
-    def frame(self, frame: Frame, hands: list[Hand], gone: list[Hand], to: Projector) -> list[Message]:
-        p = self.prefix
-        if hands:
-            user = min(h.user_id for h in hands)
-            hands = [h for h in hands if h.user_id == user]
-        messages = []
-        if bool(hands) != self._tracking:
-            self._tracking = bool(hands)
-            messages.append(Message(f"{p}/tracking_skeleton", (("i", int(self._tracking)),)))
-        screen = None
-        if to.depth is not None:
-            screen = to.depth.intrinsics.scaled(self.SCREEN[0] / to.depth.width, self.SCREEN[1] / to.depth.height)
-        pairs = sided(hands)
-        self._joint_of = {hand.id: self.JOINTS[side] for hand, side in pairs}
-        for hand, side in pairs:
-            joint = self.JOINTS[side]
-            messages.append(Message(f"{p}/{joint}_pos_world", tuple(("f", c) for c in hand.position)))
-            if screen is not None:
-                x, y, z = hand.position
-                u, v, _ = screen.world_to_depth(x, y, max(z, 1.0))
-                messages.append(Message(f"{p}/{joint}_pos_screen", (("f", u), ("f", v), ("f", z))))
-        return messages
-
-    def gesture(self, gesture: Gesture, to: Projector) -> list[Message]:
-        if gesture.state.value != "complete":
-            return []  # Synapse reports hits, not motions under way
-        joint = self.JOINTS.get(gesture.side) or self._joint_of.get(gesture.hand_id, "righthand")
-        return [Message(f"{self.prefix}/{joint}", (("s", self.WORDS[gesture.name]),))]
 
 
 FIELDS = {
@@ -191,6 +91,14 @@ class Template(BaseModel):
             return typed(arg)
         alone = _ALONE.match(arg)
         return fields[alone.group(1)] if alone else ("s", arg.format(**values))
+
+
+def performer_view(position: Vec3, frame: Frame) -> Vec3:
+    """A position as the bridges' mirror view has it, +x towards the performer's right: ours when
+    the depth image is mirrored (the default, and frames without an image), else x flipped."""
+    if frame.depth is None or frame.depth.mirrored:
+        return position
+    return (-position[0], position[1], position[2])
 
 
 class TemplateScheme(Scheme):

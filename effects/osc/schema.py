@@ -58,6 +58,9 @@ class Scheme:
         """The messages for one gesture event, each sent as its own datagram."""
         return []
 
+    def close(self) -> None:
+        """Release what the scheme holds (a socket it listens on)."""
+
 
 class IssvScheme(Scheme):
     """The default scheme: every field of our hands and gestures, only i, f and s types."""

@@ -116,8 +116,9 @@ class Timeline:
     """One pass through the steps: postures at any instant and the gesture intervals."""
 
     def __init__(self, steps: list[Step], body: Body, handedness: Side, start_x: float, z: float,
-                 speed: float, offset: float = 0.0, origin: str = "choreography") -> None:
+                 speed: float, offset: float = 0.0, origin: str = "choreography", sway_phase: float = 0.0) -> None:
         self.body, self.z, self.speed, self.offset, self.origin = body, z, speed, offset, origin
+        self.sway_phase = sway_phase  # radians: people standing side by side do not sway in step
         self.segments: list[Segment] = []
         t, x = 0.0, start_x
         for i, step in enumerate(steps):
@@ -163,7 +164,7 @@ class Timeline:
             hands = {side: walk.arm(self.body, side, local) for side in SIDES}
         elif seg.hand is not None:
             hands[seg.side] = seg.hand.at(local)
-        sway = SWAY_MM * np.sin(2 * np.pi * SWAY_HZ * t)
+        sway = SWAY_MM * np.sin(2 * np.pi * SWAY_HZ * t + self.sway_phase)
         return Posture(x + sway, self.z, yaw, hands, phase, gait)
 
     def active(self, t: float) -> tuple[TruthGesture, ...]:

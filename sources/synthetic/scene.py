@@ -43,11 +43,11 @@ class PerformerOptions(BaseModel):
             raise ValueError("give each performer a choreography or a choreography_file (one of them)")
         return self
 
-    def steps(self, index: int) -> tuple[list[Step], str]:
-        """The steps and where they come from (for messages)."""
+    def steps(self, where: str) -> tuple[list[Step], str]:
+        """The steps and where they come from for messages (`where`: this performer's options)."""
         if self.choreography_file is not None:
             return load_file(self.choreography_file), f"{self.choreography_file}: steps"
-        return list(self.choreography or ()), f"source.performers[{index}].choreography"
+        return list(self.choreography or ()), f"{where}.choreography"
 
 
 def _walk(x: float, seconds: float) -> dict:

@@ -24,6 +24,8 @@ from sources.synthetic.sensor import KinectModel
 
 CAMERA_HEIGHT_MM = 1100.0  # the sensor on a stand at chest height, looking level
 WALL_BEHIND_MM = 1500.0  # back wall distance behind the (farthest) performer
+SWAY_PHASE = 2.4  # radians between one performer's idle sway and the next one's
+SOLO = ("distance_mm", "height_mm", "handedness", "choreography", "choreography_file")  # one performer's options
 
 
 class SyntheticOptions(BaseModel):
@@ -70,9 +72,6 @@ class SyntheticOptions(BaseModel):
                                  choreography_file=self.choreography_file)]
 
 
-SOLO = ("distance_mm", "height_mm", "handedness", "choreography", "choreography_file")
-
-
 @dataclass
 class Actor:
     """One performer on stage: its scene id (1, 2, ... in the order given), body, steps and current pass."""
@@ -89,7 +88,7 @@ class Actor:
         """This performer's next pass through its steps, from `start_x`, starting `offset` s into the show."""
         o = self.options
         self.timeline = Timeline(self.steps, self.body, Side(o.handedness), start_x, o.distance_mm, speed, offset,
-                                 self.origin)
+                                 self.origin, SWAY_PHASE * (self.id - 1))
 
 
 class SyntheticSource(Source):
@@ -103,10 +102,8 @@ class SyntheticSource(Source):
         o: SyntheticOptions = self.options
         self.actors = []
         for i, performer in enumerate(o.cast()):
-            steps, origin = performer.steps(i)
-            if o.scene is None and o.performers is None:  # the solo performer's steps are the source's own
-                origin = f"{o.choreography_file}: steps" if o.choreography_file else "source.choreography"
-            self.actors.append(Actor(i + 1, performer, steps, origin, Body(performer.height_mm)))
+            where = "source" if o.scene is None and o.performers is None else f"source.performers[{i}]"
+            self.actors.append(Actor(i + 1, performer, *performer.steps(where), Body(performer.height_mm)))
         self.fps = float(o.fps)
         self.intrinsics = Intrinsics.from_fov(o.width, o.height, *KINECT_V1_FOV_DEG)
         self._restart()  # checks the walks now, not mid-show

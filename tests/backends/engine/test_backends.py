@@ -132,7 +132,8 @@ def test_nuitrack_mode_names_and_sides(wave):
 
 
 def test_nuitrack_mode_reports_both_hands_while_the_user_is_in_view(wave):
-    """Nuitrack's hands: ids 1 (left) and 2 (right), resting ones where they hang, LOST once after the user left."""
+    """Nuitrack's hands: ids 1 (left) and 2 (right), resting ones measured where they hang, LOST once
+    after the user left."""
     step = wave[1].timestamp - wave[0].timestamp
     empty = [DepthFrame(np.zeros_like(wave[-1].data), wave[-1].intrinsics, frame_id=len(wave) + i,
                         timestamp=wave[-1].timestamp + (i + 1) * step, mirrored=wave[-1].mirrored)
@@ -143,12 +144,15 @@ def test_nuitrack_mode_reports_both_hands_while_the_user_is_in_view(wave):
                for f in in_view)
     assert {h.state for h in in_view[0].hands} == {HandState.NEW}
     assert all(h.state is not HandState.NEW for f in in_view[1:] for h in f.hands)
-    resting = [(h, d.truth.hands[h.side]) for f, d in zip(in_view, wave) for h in f.hands if h.confidence == 0]
-    seen = [(h, d.truth.hands[h.side]) for f, d in zip(in_view, wave) for h in f.hands if h.confidence > 0]
-    assert resting and seen, "both resting guesses and seen hands"
-    error = [float(np.linalg.norm(np.subtract(h.position, truth))) for h, truth in resting]
-    assert np.median(error) < 120, "a resting hand is reported beside the hip, where it hangs"
-    assert {h.side.value for h, _ in seen} == {"right"}, "only the waving hand is seen"
+    resting = [(h, d.truth.hands[h.side]) for f, d in zip(in_view, wave) for h in f.hands if h.extended is False]
+    seen = [(h, d.truth.hands[h.side]) for f, d in zip(in_view, wave) for h in f.hands if h.extended]
+    assert resting and seen, "both resting and extended hands"
+    # The synthetic truth is the palm centre, about 100 mm above the fingertips, where the depth
+    # ends the hanging arm; the Kinect skeleton of the real clips (tests below) puts its hand lower.
+    error = np.array([np.subtract(h.position, truth) for h, truth in resting])
+    assert np.median(np.hypot(error[:, 0], error[:, 2])) < 50, "a resting hand is measured beside the hip"
+    assert np.median(np.abs(error[:, 1])) < 150, "at the lower end of the hanging arm"
+    assert {h.side.value for h, _ in seen} == {"right"}, "only the waving hand is extended"
     waves = [g for g in completed(out) if g.name == "wave"]
     assert waves and all(g.hand_id == 2 for g in waves), "gestures name the side's id"
     lost = [h for f in gone for h in f.hands]

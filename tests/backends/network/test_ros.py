@@ -7,6 +7,7 @@ import json
 import os
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -14,6 +15,8 @@ import pytest
 from backends.network.ros import rospy_missing
 from sources.clip import Clip
 from tests.backends.network.conftest import ROOT, Serve, clip_profile, free_ports, stop, wait_for_line
+from tests.backends.network.test_users import duet
+from tests.backends.oscin.helpers import replay
 
 REASON = rospy_missing()
 ROSCORE_START_S = 90  # roslaunch, rosmaster and rosout: slow to start on a loaded machine
@@ -67,3 +70,46 @@ def test_serve_over_ros_to_the_network_backend(roscore, tmp_path, performer_clip
         else:  # sensor_msgs/Image: every image is one of the clip's, bit for bit
             for data in dump["depth"]:
                 assert any(np.array_equal(data, c) for c in clip.depth)
+
+
+SUBSCRIBE_USERS = """
+import json, sys
+from backends.network.backend import NetworkBackend, NetworkOptions
+options = NetworkOptions(transport="ros", connect=sys.argv[1], depth=False, end_with_publisher=True)
+with NetworkBackend(None, options) as backend:
+    print("subscribed", file=sys.stderr, flush=True)
+    frames = list(iter(backend.update, None))
+print(json.dumps([{"backend": f.backend, "users": [u.to_json() for u in f.users],
+                   "hands": [[h.user_id, h.extended, h.state.value] for h in f.hands],
+                   "gestures": [[g.name, g.user_id] for g in f.gestures]} for f in frames]))
+"""
+
+
+def test_users_over_ros_in_the_hands_topic(roscore, tmp_path):
+    """osc-in in `issv serve --transport ros`, fed a duet by `issv osc-replay`; a subscriber process."""
+    master = roscore["ROS_MASTER_URI"]
+    session, profile, osc_port = duet(tmp_path)
+    sub = subprocess.Popen([sys.executable, "-c", SUBSCRIBE_USERS, master], cwd=ROOT, env=roscore,
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        wait_for_line(sub, "subscribed", "the ROS users subscriber")
+        server = Serve(str(profile), "--transport", "ros", "--bind", master, env=roscore)
+        try:
+            time.sleep(2.0)  # rospy connects publisher and subscriber on its own threads
+            sender = replay(session, osc_port)
+            assert sender.wait(60) == 0, sender.stderr.read()
+            out, err = sub.communicate(timeout=60)
+        finally:
+            server.stop()
+    finally:
+        if sub.poll() is None:
+            sub.kill()
+    got = json.loads(out.strip().splitlines()[-1])
+    with_users = [f for f in got if f["users"]]
+    assert len(with_users) >= 30, err
+    assert {tuple(sorted(u["id"] for u in f["users"])) for f in with_users} >= {(1,), (1, 2)}
+    user2 = next(u for f in with_users for u in f["users"] if u["id"] == 2)
+    assert user2["joints"]["torso"]["position"] == pytest.approx([900.0, 0.0, 2100.0], abs=0.01)
+    assert user2["center_of_mass"] is not None
+    assert all(extended in (True, False) for f in with_users for _, extended, _ in f["hands"])
+    assert {user for f in got for _, user in f["gestures"]} <= {1, 2}

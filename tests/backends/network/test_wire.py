@@ -6,7 +6,7 @@ import pytest
 
 from backends.network import wire
 from backends.network.publisher import DepthOptions, endpoints
-from host import DepthFrame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics, Side
+from host import DepthFrame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics, Joint, Side, User
 from sources.clip import Clip
 
 
@@ -61,6 +61,34 @@ def test_hands_and_gestures_round_trip():
     assert isinstance(back, wire.GestureMsg) and back.gesture == g and back.header.seq == 9
 
 
+USERS = (User(3, HandState.TRACKING, {"torso": Joint((10.0, 200.0, 2200.0)), "left_hand": Joint((-300.0, 0.0, 2180.0), 0.4)},
+              (12.5, 150.0, 2200.0)),
+         User(4, HandState.NEW))
+
+
+def test_users_resting_hands_and_gesture_users_round_trip():
+    hands = (Hand(31, HandState.TRACKING, (-300.0, 0.0, 2180.0), Side.LEFT, 3, 0.9, extended=False),
+             Hand(32, HandState.TRACKING, (300.0, 400.0, 1800.0), Side.RIGHT, 3, 1.0, extended=True))
+    msg = wire.decode(wire.encode_hands(5, 1, 10.0, 42, 1.5, "openiss", hands, False, USERS))
+    assert msg.hands == hands and msg.users == USERS
+    g = Gesture(GestureType.WAVE, GestureState.COMPLETE, (1.0, 2.0, 3.0), 32, Side.RIGHT, user_id=3)
+    assert wire.decode(wire.encode_gesture(5, 9, 10.0, 42, g)).gesture.user_id == 3
+
+
+def test_version_1_messages_are_still_read():
+    """What an issv before users sent: version 1, 8-value hand rows, no users, gestures without a user."""
+    head = wire.HEADER.pack(wire.MAGIC, 1, wire.HANDS, 0, 5, 1, 10.0)
+    msg = wire.decode(head + b'{"frame":42,"t":1.5,"backend":"truth","depth":true,'
+                             b'"hands":[[1,"tracking",1.5,-2.0,2000.0,"left",2,0.5]]}')
+    assert msg.hands == (Hand(1, HandState.TRACKING, (1.5, -2.0, 2000.0), Side.LEFT, 2, 0.5),) and msg.users == ()
+    head = wire.HEADER.pack(wire.MAGIC, 1, wire.GESTURE, 0, 5, 2, 10.0)
+    g = wire.decode(head + b'{"frame":42,"type":"WAVE","state":"complete","position":[0,0,0],"hand":1,'
+                           b'"side":"left","confidence":1,"t":0}').gesture
+    assert g.user_id == 1 and g.name == "wave"
+    with pytest.raises(wire.WireError, match="bad-version: version 3, this issv reads 1 and 2"):
+        wire.decode(wire.HEADER.pack(wire.MAGIC, 3, wire.HANDS, 0, 5, 1, 10.0) + b"{}")
+
+
 def test_learned_gestures_keep_their_name_and_hands_on_the_wire():
     g = Gesture(GestureType.LEARNED, GestureState.IN_PROGRESS, (1.0, 2.0, 3.0), 0, Side.UNKNOWN, 0.8, 3.5,
                 label="wind_it_up", hands=(1, 2))
@@ -74,6 +102,11 @@ def test_learned_gestures_keep_their_name_and_hands_on_the_wire():
     (wire.header(77, 1, 1, 0.0), "unknown-kind"),
     (wire.header(wire.HANDS, 1, 1, 0.0) + b"{not json", "bad-json"),
     (wire.header(wire.HANDS, 1, 1, 0.0) + b'{"frame": 1}', "bad-field"),
+    (wire.header(wire.HANDS, 1, 1, 0.0) + b'{"frame":1,"t":0,"backend":"x","depth":false,"hands":[],'
+                                           b'"users":[{"id":1,"state":"tracking","com":null,"joints":{"head":[0,0]}}]}',
+     "bad-field"),
+    (wire.header(wire.HANDS, 1, 1, 0.0) + b'{"frame":1,"t":0,"backend":"x","depth":false,'
+                                           b'"hands":[[1,"tracking",0,0,1,"left",1,1,"yes"]]}', "bad-field"),
     (wire.header(wire.GESTURE, 1, 1, 0.0) + b'{"frame":1,"type":"DANCE","state":"complete","position":[0,0,0],'
                                              b'"hand":1,"side":"left","confidence":1,"t":0}', "bad-field"),
     (wire.header(wire.GESTURE, 1, 1, 0.0) + b'{"frame":1,"type":"learned","state":"complete","position":[0,0,0],'

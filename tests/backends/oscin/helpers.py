@@ -14,7 +14,7 @@ from pathlib import Path
 
 from backends.oscin.backend import OscInBackend, OscInOptions
 from effects.osc.coords import Projector
-from effects.osc.presets import OSCeletonScheme
+from effects.osc.osceleton import OSCeletonScheme
 from host.osc import Message
 from host import Frame, Hand, HandState, Side
 

@@ -4,7 +4,8 @@ import pytest
 from backends.oscin.schemes import (BadMessage, CustomScheme, InputTemplate, KinectV2Scheme, MediaPipeScheme,
                                     NiMateScheme, OSCeletonScheme, Reading, SynapseScheme, UserEvent)
 from effects.osc.coords import Projector
-from effects.osc.presets import OSCeletonScheme as OSCeletonOut, SynapseScheme as SynapseOut
+from effects.osc.osceleton import OSCeletonScheme as OSCeletonOut
+from effects.osc.synapse import SynapseScheme as SynapseOut
 from host import Frame, Hand, HandState, Side
 
 

@@ -25,7 +25,8 @@ from backends.truth import TruthBackend
 from bench.osc import PATCH as PD_PATCH, UdpInbox, free_port, pd_command
 from effects.osc import OscEffect
 from effects.osc.destinations import warn_stderr
-from host import DepthFrame, Intrinsics, Side, Source, Stage, Truth, TruthGesture
+from host import (Backend, DepthFrame, Frame, Hand, HandState, Intrinsics, Joint, Side, Source, Stage, Truth,
+                  TruthGesture, User)
 from host.loop import EffectSlot, Limits, PacedSource, Show
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -136,15 +137,16 @@ class Receiver(UdpInbox):
 
 
 class PureData:
-    """`pd -nogui` running patches/issv-receiver.pd, listening on `port`, echoing to `echo`."""
+    """`pd -nogui` running a patch (default patches/issv-receiver.pd), listening on `port`, echoing to `echo`."""
 
-    def __init__(self, echo: Receiver, patch: Path = PD_PATCH) -> None:
+    def __init__(self, echo: Receiver, patch: Path = PD_PATCH, sends: tuple[str, ...] = ()) -> None:
         if shutil.which("pd") is None:
             raise RuntimeError("Pure Data is not installed: apt-get install puredata-core (scripts/setup.sh does)")
         self.port = free_port()
         self.echo = echo
-        self.proc = subprocess.Popen(
-            pd_command(self.port, echo.port, patch), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        extra = [arg for text in sends for arg in ("-send", text)]  # more `pd -send` messages for the patch
+        self.proc = subprocess.Popen(pd_command(self.port, echo.port, patch) + extra, stdout=subprocess.DEVNULL,
+                                     stderr=subprocess.PIPE, text=True)
         if not echo.wait_for(lambda r: r.messages("/echo/ready"), timeout=10):
             self.close()
             raise RuntimeError(f"Pure Data did not start the patch: {self.stderr}")
@@ -206,3 +208,58 @@ class OscDump:
 
     def _data(self) -> list[list[str]]:
         return [line for line in list(self.lines) if line[1] != "/probe"]
+
+
+# -- performers with bodies (backends that report users) ------------------------------------------
+#: A standing performer's joints relative to where it stands (mm; +x is the performer's right).
+BODY = {"head": (0, 650, 0), "neck": (0, 450, 0), "torso": (0, 200, 0),
+        "left_shoulder": (-180, 430, 0), "left_elbow": (-300, 250, 0), "left_hand": (-320, 0, -20),
+        "right_shoulder": (180, 430, 0), "right_elbow": (300, 250, 0), "right_hand": (320, 0, -20),
+        "left_hip": (-110, -50, 0), "right_hip": (110, -50, 0)}
+
+
+def body_at(x0: float, i: int, raised: bool = False) -> dict[str, Joint]:
+    """The joints of a performer standing at x0, 2.2 m away, at frame i: the right hand rests at
+    the side, or (raised) sticks out forwards and up, moving a little each frame."""
+    joints = {name: Joint((x0 + x, y, 2200.0 + z)) for name, (x, y, z) in BODY.items()}
+    if raised:
+        joints["right_hand"] = Joint((x0 + 250, 450 + 2 * i, 1750.0))
+    return joints
+
+
+class UsersBackend(Backend):
+    """Frames with users, made in-process (a backend that reports users, as osc-in and the open
+    engine do): `users(i)` gives frame i's users, each user's hands follow from its joints."""
+
+    name = "scripted-users"
+    needs_source = False
+
+    def __init__(self, users: Callable[[int], tuple[User, ...]], n: int, fps: float = FPS) -> None:
+        super().__init__(None, None)
+        self.users, self.n, self.fps, self.i = users, n, fps, 0
+
+    def update(self) -> Frame | None:
+        if self.i >= self.n:
+            return None
+        if self.i:
+            time.sleep(1 / self.fps)
+        i, self.i = self.i, self.i + 1
+        users = self.users(i)
+        hands = tuple(Hand(10 * u.id + k, HandState.TRACKING, u.joints[name].position, side, u.id)
+                      for u in users if u.in_view
+                      for k, (name, side) in enumerate((("left_hand", Side.LEFT), ("right_hand", Side.RIGHT)), 1)
+                      if name in u.joints)
+        return Frame(i + 1, time.time(), None, hands, backend=self.name, users=users, time=i / self.fps)
+
+
+def run_users(effects, users: Callable[[int], tuple[User, ...]], n: int) -> Show:
+    """One show on the real loop with frames that carry users, at 30 frames a second."""
+    return run_show_with(UsersBackend(users, n), effects)
+
+
+def run_show_with(backend: Backend, effects) -> Show:
+    """One show on the real loop: this backend's frames to these effects."""
+    slots = [EffectSlot(e, f"effects[{k}]") for k, e in enumerate(effects)]
+    show = Show(backend, slots, Stage((1280, 720), FPS, backend.name), limits=Limits())
+    show.run()
+    return show

@@ -22,7 +22,7 @@ def test_osc_schema_prints_the_scheme(capsys):
     assert main(["osc-schema"]) == 0
     assert capsys.readouterr().out == SCHEMA_TEXT
     assert main(["osc-schema", "synapse"]) == 0
-    assert "/righthand_pos_world   f f f" in capsys.readouterr().out
+    assert "/<joint>_pos_body      f f f" in capsys.readouterr().out
 
 
 def test_osc_schema_is_a_real_command():

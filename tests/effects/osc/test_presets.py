@@ -36,13 +36,14 @@ def test_synapse_positions_tracking_and_gesture_words(receiver):
                     gestures=(TruthGesture("swipe_left", Side.LEFT, 5 / FPS, 8 / FPS),
                               TruthGesture("click", Side.RIGHT, 10 / FPS, 12 / FPS),
                               TruthGesture("hand_raise", Side.RIGHT, 14 / FPS, 16 / FPS)))
-    run_show([make_osc(destinations=[receiver.address], scheme="synapse", in_progress=True)], realtime=True,
+    run_show([make_osc(destinations=[receiver.address], scheme="synapse", in_progress=True, keepalive="off")], realtime=True,
              script=script)
     assert receiver.wait_for(lambda r: r.messages("/tracking_skeleton")[-1:] == [("/tracking_skeleton", "i", [0])])
     messages = receiver.messages()
     assert messages[0] == ("/tracking_skeleton", "i", [1])
     assert {m[0] for m in messages} == {"/tracking_skeleton", "/lefthand_pos_world", "/righthand_pos_world",
-                                        "/lefthand_pos_screen", "/righthand_pos_screen", "/lefthand", "/righthand"}
+                                        "/lefthand_pos_screen", "/righthand_pos_screen", "/lefthand", "/righthand",
+                                        "/closesthand_pos_world", "/closesthand_pos_screen"}
     assert all(m[1] == "fff" for m in messages if m[0].endswith(("_world", "_screen")))
     # only completed gestures, as words, on the joint that made them (in_progress is not Synapse's)
     assert [m for m in messages if m[0] in ("/lefthand", "/righthand")] == [
@@ -100,6 +101,8 @@ def test_templates_add_to_a_scheme_and_pd_safe_converts_them(receiver):
     ('gestures = ["jump"]', "effects[0].gestures[0]"),
     ('[[effects.messages]]\non = "hand"\naddress = "/h"\nargs = ["{nme}"]', "unknown field {nme} for on = 'hand'"),
     ('[[effects.messages]]\non = "frame"\naddress = "h/{seq}"', "address must start with /"),
+    ('scheme = "synapse"\nkeepalive = "12346"', 'keepalive: expected HOST:PORT such as 127.0.0.1:9000, or "off"'),
+    ('scheme = "osceleton"\nkeepalive = "off"', 'keepalive is Synapse\'s keep-alive port: it needs scheme = "synapse"'),
 ])
 def test_bad_options_name_the_key(effect, message):
     text = f'backend = "truth"\n[[effects]]\nname = "osc"\n{effect}\n'
