@@ -1,5 +1,8 @@
 """console: users come and go, their hands with them; an arm coming down is no event."""
 import json
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 
@@ -65,3 +68,17 @@ def test_a_backend_of_hands_only_shows_each_hands_coming_and_going(capsys):
     frames = [frame(i, hands=[Hand(1, HandState.TRACKING, UP, Side.RIGHT)] if 3 <= i < 6 else []) for i in range(1, 9)]
     lines = [line.split("s  ", 1)[1] for line in run(frames, capsys)]
     assert lines == ["hand 1 new  right   at (300, 400, 1700) mm", "hand 1 lost"]
+
+
+def test_the_demo_show_no_longer_loses_a_hand_when_the_arm_comes_down(tmp_path):
+    """profiles/demo.toml (synthetic performer -> openiss -> console) for 12 s: the arm comes down
+    after the wave at 2.7 s and the swipes, where the demo used to say "hand 1 lost" each time."""
+    profile = Path(__file__).resolve().parents[2] / "profiles" / "demo.toml"
+    run = subprocess.run([sys.executable, "-m", "host", "run", str(profile), "--headless", "--fast", "--seconds", "12"],
+                         cwd=tmp_path, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    events = [line.split("s  ", 1)[1] for line in run.stdout.splitlines() if "s  " in line]
+    assert sum(e.startswith("gesture ") for e in events) >= 3  # wave, swipe_left, swipe_right, click
+    hands = [e for e in events if e.startswith("hand ")]
+    assert not [e for e in events if " lost" in e], run.stdout
+    assert sorted(e.split()[3] for e in hands) == ["left", "right"]  # each hand new once, both all along
