@@ -273,23 +273,26 @@ PROFILE = ROOT / "profiles" / "digieviss.toml"
 
 
 def test_the_profile_plays_the_synthetic_choreography_into_listing_5_1(tmp_path):
-    """The interface of issue 8: `issv run profiles/digieviss.toml --headless` writes digieviss.ipl here."""
+    """The interface of issue 8: `issv run profiles/digieviss.toml --headless` writes digieviss.ipl
+    here; since issue 17 the open engine tracks the performer (both hands all the time: o3 is
+    carried low at the side past o2 and o1, and linked only when raised beside o0)."""
     run = subprocess.run([sys.executable, "-m", "host", "run", str(PROFILE), "--headless", "--fast"],
                          cwd=tmp_path, capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     assert (tmp_path / "digieviss.ipl").read_text() == LISTING_5_1
-    assert "linked o0 -> o3" in run.stdout and "released o3 (release gesture)" in run.stdout
+    assert "linked o0 -> o3" in run.stdout and "user 1 right hand released o3 (release gesture)" in run.stdout
+    assert "out of sight" not in run.stdout
 
 
 def test_without_a_renderer_and_with_the_program_path_from_the_profile(tmp_path):
-    """No GL at all: the synthetic performer through the truth backend, in-process."""
+    """No GL at all: the synthetic performer through the profile's backend (openiss), in-process."""
     profile = tmp_path / "show.toml"
     text = PROFILE.read_text().replace('name = "digieviss"\n#', 'name = "digieviss"\nprogram = "out/case.ipl"\n#')
     profile.write_text(text.replace('[[effects]]\nname = "hand-trails"\n', ""))
     (tmp_path / "out").mkdir()
     prof = load(profile)
     effects = make_effects(prof)
-    show = Show(make_backend(prof, realtime=False), effects, Stage((64, 48), 1000.0, "truth"))
+    show = Show(make_backend(prof, realtime=False), effects, Stage((64, 48), 1000.0, "openiss"))
     show.run()
     assert show.stage.ctx is None and effects[0].effect.view is None
     assert (tmp_path / "out" / "case.ipl").read_text() == LISTING_5_1
