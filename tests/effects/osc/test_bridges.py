@@ -148,7 +148,9 @@ def test_a_synapse_client_in_body_mode_gets_positions_relative_to_the_torso():
     assert [args for _, args in client.of("/tracking_skeleton")] == [(1,)]
     body = client.of("/righthand_pos_body")
     assert len(body) >= 140
-    assert max(b - a for (a, _), (b, _) in zip(body, body[1:])) < 0.5  # kept alive, no gap at 3 s
+    # kept alive: a lapsed request would leave a gap until the next heartbeat (about 3 s); a loaded
+    # machine may stall the show for a fraction of that
+    assert max(b - a for (a, _), (b, _) in zip(body, body[1:])) < 1.5
     resting = [args for _, args in body if args[1] < 0]
     raised = [args for _, args in body if args[1] > 0]
     assert resting and raised
