@@ -16,8 +16,9 @@ from pydantic import Field
 from backends.engine.geometry import KINECT_V1, to_geometry
 from backends.engine.recognizer import NITE_DICTIONARY, NUITRACK_DICTIONARY, GestureRecognizer
 from backends.engine.rules import GestureRules
-from backends.engine.sides import nuitrack_id, renamed_gesture, renamed_hand, user_hand_id
+from backends.engine.sides import nuitrack_id, renamed_gesture, renamed_hand
 from backends.engine.tracker import HandTracker, TrackerOptions, TrackResult
+from backends.users import hand_id
 from host import Backend, DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState
 
 
@@ -89,7 +90,7 @@ class EngineBackend(Backend):
         self._seq = 0
         self._focused: set[int] = set()
         self._shown: set[int] = set()
-        self._ids = nuitrack_id if self.nuitrack_ids else user_hand_id(1)
+        self._ids = nuitrack_id if self.nuitrack_ids else hand_id
 
     def update(self) -> Frame | None:
         depth = self.source.read()

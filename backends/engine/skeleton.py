@@ -3,12 +3,14 @@
 The body frame (trunk.py) gives the spine, the shoulder line and the head; the hand tracker gives
 the hands that stick out of the body. What is left is the hand at rest, and it is measured, not
 placed: a hanging arm is the outermost part of the silhouette on its side below the elbow, out
-beyond the thighs, so its lowest row still wider than the legs (by `beside_legs_mm`) is where the
-fingers end and the hand is the outer part of the few rows above. A hand held in front of the
-lower body (hands clasped, hands on the knees of a seated performer) is the lowest part of the
-user on its side standing out of the trunk's plane. A side where neither shows keeps its hand
-where it was last seen relative to the torso, with confidence 0. Elbows are reported where the
-depth has the arm between shoulder and hand; otherwise they are left out.
+beyond the thighs (by `beside_legs_mm`); going down it, the fingers end where the outline steps
+in (or where it is no wider than the legs), and the hand is the outer part of the rows just above.
+A hand held in front of the lower body (hands clasped) is the lowest part of the user on its side
+standing out of the trunk's plane. A seated performer's knee sticks out like a hand: an extended
+hand below the hips with a hand found beside the legs next to it is the knee, and the hand rests
+there. A side where nothing shows keeps its hand where it was last measured, with confidence 0
+(and has none before its first measurement: nothing is placed by guesswork). Elbows are reported where the depth has the arm between shoulder and hand;
+otherwise they are left out.
 
 Each side's hand has one id for as long as the user is in view (`hand_id(user, side)` of
 backends/users.py), so a hand that comes down and goes up again stays the same hand; `extended`
@@ -72,7 +74,6 @@ class Skeleton:
 
 @dataclass
 class _SideHand:
-    offset: np.ndarray | None = None  # last hand position relative to the torso
     position: Vec3 | None = None  # last hand position
     reported: bool = False
 
@@ -97,38 +98,54 @@ class SkeletonEstimator:
         for side in (Side.LEFT, Side.RIGHT):
             outwards = 1.0 if (side is Side.RIGHT) == mirrored else -1.0  # image right is +x
             name = side.value
-            cells = self._side_view(view, body, outwards)
+            cells = self._side_view(view, outwards)
             shoulder = self._shoulder(view, cells, body, outwards)
             joints[f"{name}_shoulder"] = Joint(_vec(shoulder), 0.8)
-            out = [h for h in extended if h.side is side and h.in_view]
-            found = self._resting(view, cells, body)
-            if out and found is not None and found[2] and self._knee(out, found[0], body):
-                # A seated performer's knee sticks out like a hand; the hand rests on it or beside it:
-                # between the knee's depth and that of the outline beside it.
-                knee_z = min(h.position[2] for h in out)
-                found = (np.array([found[0][0], found[0][1], 0.5 * (found[0][2] + knee_z)]), *found[1:])
-                out = []
-            if out:
-                hand = max(out, key=lambda h: h.confidence)
-                position, confidence, is_out = np.asarray(hand.position), hand.confidence, True
-                at_border = hand.state is HandState.TOUCHING_FOV
-            else:
-                is_out, at_border = False, False
-                state = self._sides[side]
-                if found is not None:
-                    position, confidence = found[:2]
-                elif state.offset is not None:
-                    position, confidence = torso + state.offset, 0.0
-                else:
-                    position, confidence = self._hanging(body, outwards), 0.0
+            position, confidence, is_out, at_border = self._side_hand(view, cells, body, side, outwards, extended)
+            if position is None:
+                continue  # not seen yet: no hand is placed where none was measured
             joints[f"{name}_hand"] = Joint(_vec(position), confidence)
             elbow = self._elbow(view, shoulder, position)
             if elbow is not None:
                 joints[f"{name}_elbow"] = elbow
-            hands.append(self._hand(side, position, confidence, is_out, at_border, torso))
+            hands.append(self._hand(side, position, confidence, is_out, at_border))
         g = view.grid
         mass = tuple(float(c[view.mask].mean()) for c in (g.x, g.y, g.z))
         return Skeleton(joints, tuple(hands), mass)
+
+    def _side_hand(self, view: _View, cells: _Side, body: Body, side: Side, outwards: float,
+                   extended: tuple[Hand, ...]) -> tuple[np.ndarray | None, float, bool, bool]:
+        """This side's hand: (position, confidence, extended, touching the image's border); where it
+        was last measured, with confidence 0, when the depth does not show it now; None before it
+        was ever measured."""
+        out = [h for h in extended if h.side is side and h.in_view]
+        found = self._resting(view, cells, body)
+        if out and found is not None and found[2] and self._knee(out, found[0], body):
+            # The hand rests on the knee or beside it: between the knee's depth and the outline's.
+            knee_z = min(h.position[2] for h in out)
+            found = (np.array([found[0][0], found[0][1], 0.5 * (found[0][2] + knee_z)]), *found[1:])
+            out = []
+        if out:
+            hand = max(out, key=lambda h: h.confidence)
+            return np.asarray(hand.position), hand.confidence, True, hand.state is HandState.TOUCHING_FOV
+        if found is not None:
+            return found[0], found[1], False, False
+        last = self._sides[side].position
+        return (None if last is None else np.asarray(last)), 0.0, False, False
+
+    def held(self, extended: tuple[Hand, ...]) -> tuple[Hand, ...]:
+        """A frame without the user's body (a dropout shorter than the tracker's hold): each hand
+        reported so far, the tracker's held extended hand on its side, else where it was last seen."""
+        out = []
+        for side, state in self._sides.items():
+            if not state.reported or state.position is None:
+                continue
+            mine = [h for h in extended if h.side is side and h.in_view]
+            if mine:
+                out.append(self._hand(side, np.asarray(mine[0].position), mine[0].confidence, True, False))
+            else:
+                out.append(self._hand(side, np.asarray(state.position), 0.0, False, False))
+        return tuple(out)
 
     def lost(self) -> tuple[Hand, ...]:
         """The user is gone: both hands LOST once, where they were last seen; ids stay for a return."""
@@ -140,19 +157,18 @@ class SkeletonEstimator:
                                 self.user_id, 0.0, None))
         return tuple(out)
 
-    def _hand(self, side: Side, position: np.ndarray, confidence: float, is_out: bool, at_border: bool,
-              torso: np.ndarray) -> Hand:
+    def _hand(self, side: Side, position: np.ndarray, confidence: float, is_out: bool, at_border: bool) -> Hand:
         state = self._sides[side]
         status = HandState.TOUCHING_FOV if at_border else HandState.TRACKING
         if not state.reported:
             status = HandState.NEW
         state.reported = True
-        state.offset, state.position = position - torso, _vec(position)
+        state.position = _vec(position)
         return Hand(hand_id(self.user_id, side), status, _vec(position), side, self.user_id,
                     round(float(confidence), 3), is_out)
 
     # -- measurements --------------------------------------------------------------------------
-    def _side_view(self, view: _View, body: Body, outwards: float) -> _Side:
+    def _side_view(self, view: _View, outwards: float) -> _Side:
         """One side's cells (beside the spine, not behind the trunk) and its outline's outer edge per row."""
         out = outwards * view.dx
         cells = view.near & (out > 40)
@@ -223,11 +239,6 @@ class SkeletonEstimator:
             if edge[run[max(0, k - 3):k]].max() - edge[run[k]] > o.fingertip_step_mm:
                 return int(run[k - 1])
         return int(run[-1])
-
-    def _hanging(self, body: Body, outwards: float) -> np.ndarray:
-        """Only before a side's hand was ever measured: beside the hip, with confidence 0."""
-        o = self.options
-        return np.array([body.torso[0] + outwards * o.legs_half_width_mm * 1.4, body.hip_y, body.torso[2]])
 
     def _elbow(self, view: _View, shoulder: np.ndarray, hand: np.ndarray) -> Joint | None:
         """The user's cell nearest the middle of shoulder and hand, if it is an upper arm from the

@@ -123,8 +123,9 @@ class HandTracker:
         if body is None:
             self.body_estimator.reset()
             hands = self._update_tracks(t, [], None, depth.mirrored)
-            gone = self._user_seen is not None and t - self._user_seen > self.options.lost_timeout_s
-            return TrackResult(hands, {}, user_hands=self.skeleton.lost() if gone else ())
+            unseen = t - self._user_seen if self._user_seen is not None else np.inf
+            held = self.skeleton.held(hands) if unseen <= self.options.hold_s else ()
+            return TrackResult(hands, {}, user_hands=self.skeleton.lost() if unseen > self.options.lost_timeout_s else held)
         self._user_seen = t
         candidates = self.detector.detect(seg, body)
         hands = self._update_tracks(t, candidates, body.torso, depth.mirrored)

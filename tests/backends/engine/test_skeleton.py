@@ -91,9 +91,7 @@ def test_joints_are_named_from_the_performers_point_of_view(mirrored):
     for side in (Side.LEFT, Side.RIGHT):
         hand = r.joints[f"{side.value}_hand"].position
         assert np.hypot(hand[0] - f.truth.hands[side][0], hand[2] - f.truth.hands[side][2]) < 80
-    points = f.data > 0
     assert r.center_of_mass is not None and abs(r.center_of_mass[1] - f.truth.body["torso"][1]) < 250
-    assert points.any()
 
 
 def test_elbows_only_where_the_depth_shows_the_arm(up_down_up):
