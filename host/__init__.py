@@ -25,6 +25,7 @@ from host.model import (
     Vec3,
 )
 from host.callbacks import SimpleOpenNIEffect
+from host.palette import USER_COLOURS, user_colour
 from host.loop import profile_source
 
 __version__ = "0.1.0"
@@ -45,5 +46,6 @@ __all__ = [
     "Backend", "CANONICAL_GESTURES", "ColourFrame", "DepthFrame", "DeviceInfo", "Effect", "Frame", "Gesture",
     "GestureState", "GestureType", "Hand", "HandState", "Intrinsics", "JOINTS", "Joint", "NoOptions", "PUBLIC_MODULES",
     "Plugin", "PluginUnavailable", "Recognizer", "SimpleOpenNIEffect", "Side", "Source", "Stage", "Truth",
-    "TruthGesture", "User", "UserTruth", "Vec3", "hookimpl", "profile_source", "__version__",
+    "TruthGesture", "USER_COLOURS", "User", "UserTruth", "Vec3", "hookimpl", "profile_source", "user_colour",
+    "__version__",
 ]

@@ -2,7 +2,9 @@
 
 Spheres o0..oN carry observations; the performer grabs them with a gesture, carries them and
 links them into observation sequences; every change of the links rewrites a Forensic Lucid
-program (Listing 5.1) so the investigator always has the current one on disk.
+program (Listing 5.1) so the investigator always has the current one on disk. Each user's left
+and right hand can hold a sphere; a hand that comes down to rest keeps it (and links nothing
+until it is raised again), so a backend that reports resting hands, such as `openiss`, plays it.
 """
 from __future__ import annotations
 
@@ -14,11 +16,17 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from host import CANONICAL_GESTURES, Effect, Frame, Gesture, GestureState, Stage, Vec3
+from host import CANONICAL_GESTURES, Effect, Frame, Gesture, GestureState, Side, Stage, Vec3
 from host.options import ProfilePath
 
 from effects.digieviss import lucid
-from effects.digieviss.scene import Scene, Sphere
+from effects.digieviss.scene import HandKey, Scene, Sphere
+
+
+def hand_key(user_id: int, side: Side, hand_id: int) -> HandKey:
+    """Who holds a sphere: the user's left or right hand, which stays that hand when it rests and
+    comes up again whatever id a backend gives it; by id only when the backend cannot tell sides."""
+    return HandKey(user_id, f"hand {hand_id}" if side is Side.UNKNOWN else side.value)
 
 
 class SphereSpec(BaseModel):
@@ -63,6 +71,8 @@ class DigiEVISSOptions(BaseModel):
     release_gesture: str = Field("click", description="lets go of the sphere the hand holds")
     lost_release_s: float = Field(0.5, gt=0, description="a held sphere is let go when its hand is unseen this long")
     hold_timeout_s: float = Field(10.0, ge=0, description="a held sphere is let go after this long (0: never)")
+    touch_s: float = Field(0.1, ge=0, description="a carried sphere links to another once they touch this long "
+                           "(a tracker's one-frame jump links none)")
     log: bool = Field(True, description="print grabs, releases, links and writes")
 
     @field_validator("grab_gesture", "release_gesture")
@@ -89,8 +99,9 @@ class DigiEVISS(Effect):
         o = self.options
         self.observations, places = self._observations()
         self.scene = Scene([Sphere(ob.id, ob.data, pos, rad) for ob, (pos, rad) in zip(self.observations, places)],
-                           o.planar, o.lost_release_s, o.hold_timeout_s)
+                           o.planar, o.lost_release_s, o.hold_timeout_s, o.touch_s)
         self.written: str | None = None
+        self.keys: dict[int, HandKey] = {}  # this frame's hand ids -> who they are
         self.view = None
         if stage.ctx is not None:
             from effects.digieviss.view import SceneView  # moderngl only when there is a renderer
@@ -113,8 +124,11 @@ class DigiEVISS(Effect):
 
     # -- input -------------------------------------------------------------------------------
     def on_frame(self, frame: Frame) -> None:
-        hands = {h.id: h.position for h in frame.hands if h.in_view}
-        changed = self.scene.update(hands, frame.timestamp)
+        in_view = [h for h in frame.hands if h.in_view]
+        self.keys = {h.id: hand_key(h.user_id, h.side, h.id) for h in in_view}
+        hands = {self.keys[h.id]: h.position for h in in_view}
+        resting = {self.keys[h.id] for h in in_view if h.extended is False}
+        changed = self.scene.update(hands, frame.timestamp, resting)
         self._flush_log()
         if changed:
             self.write_program()
@@ -127,10 +141,15 @@ class DigiEVISS(Effect):
         self.scene.grab_or_release(self._hand_of(gesture), gesture.position, gesture.timestamp, grab, release)
         self._flush_log()
 
-    def _hand_of(self, gesture: Gesture) -> int:
-        """The gesture's hand; a backend that cannot tell (id 0) gets the nearest tracked hand."""
+    def _hand_of(self, gesture: Gesture) -> HandKey:
+        """The gesture's hand: the tracked hand of its id, else by its user and side, else (a
+        backend that cannot tell, id 0) the nearest tracked hand."""
+        if gesture.hand_id in self.keys:
+            return self.keys[gesture.hand_id]
+        if gesture.side is not Side.UNKNOWN:
+            return hand_key(gesture.user_id, gesture.side, gesture.hand_id)
         if gesture.hand_id or not self.scene.hands:
-            return gesture.hand_id
+            return hand_key(gesture.user_id, Side.UNKNOWN, gesture.hand_id)
         return min(self.scene.hands, key=lambda h: math.dist(self.scene.hands[h], gesture.position))
 
     def _flush_log(self) -> None:

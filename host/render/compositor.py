@@ -66,10 +66,10 @@ class Layer:
     seconds since the show's first render and since the previous one. `to_clip` is the 3x3 matrix
     from output pixels to homogeneous clip space (gl_Position = vec4(p.xy, 0, p.z) with
     p = to_clip * vec3(x, y, 1)): it includes the keystone when the stage is drawn in place.
-    `depth_texture()` and
-    `mask_texture()` give the frame's depth (R32F, metres, 0 = no reading) and user mask (R8,
-    1 = performer), uploaded once per sensor frame and shared by all effects; image row 0 sits at
-    texture t = 1. `fbo` is the framebuffer to draw into (an effect that renders elsewhere first
+    `depth_texture()`, `mask_texture()` and `labels_texture()` give the frame's depth (R32F,
+    metres, 0 = no reading), user mask (R8, 1 = performer) and user labels (R8: round(r * 255) is
+    0 for nobody, else the user id; None when the backend labels no users), each uploaded at most
+    once per sensor frame and shared by all effects; image row 0 sits at texture t = 1. `fbo` is the framebuffer to draw into (an effect that renders elsewhere first
     must bind it again with `use()`).
     """
 
@@ -98,6 +98,9 @@ class Layer:
 
     def mask_texture(self) -> moderngl.Texture | None:
         return self._textures.mask()
+
+    def labels_texture(self) -> moderngl.Texture | None:
+        return self._textures.labels()
 
     def below(self) -> moderngl.Texture:
         """Everything composited below this layer (RGBA, t = 1 at the top), copied once per call."""

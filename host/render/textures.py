@@ -12,14 +12,15 @@ from host.model import Frame
 
 
 class FrameTextures:
-    """The newest frame's depth (R32F, metres, 0 = no reading) and user mask (R8, 1 = performer)."""
+    """The newest frame's depth (R32F, metres, 0 = no reading), user mask (R8, 1 = performer)
+    and user labels (R8 holding the label: a shader reads round(r * 255), 0 = nobody, else the
+    user id)."""
 
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
         self.frame: Frame | None = None
-        self._depth: moderngl.Texture | None = None
-        self._mask: moderngl.Texture | None = None
-        self._depth_seq = self._mask_seq = -1
+        self._textures: dict[str, moderngl.Texture] = {}
+        self._seqs: dict[str, int] = {}  # which frame each texture holds
 
     def _texture(self, old: moderngl.Texture | None, size: tuple[int, int], dtype: str) -> moderngl.Texture:
         if old is not None and old.size == size and old.dtype == dtype:
@@ -31,30 +32,31 @@ class FrameTextures:
         tex.repeat_x = tex.repeat_y = False
         return tex
 
-    def depth(self) -> moderngl.Texture | None:
-        frame = self.frame
-        if frame is None or frame.depth is None:
+    def _image(self, name: str, image: np.ndarray | None, dtype: str, scale: float | None) -> moderngl.Texture | None:
+        """Texture `name` holding `image` * `scale` of the newest frame, written once per frame."""
+        if image is None:
             return None
-        if frame.seq != self._depth_seq:
-            d = frame.depth
-            self._depth = self._texture(self._depth, (d.width, d.height), "f4")
+        if self._seqs.get(name) != self.frame.seq:
+            pixels = np.ascontiguousarray(image[::-1], dtype=np.float32 if dtype == "f4" else np.uint8)
+            tex = self._textures[name] = self._texture(self._textures.get(name), (image.shape[1], image.shape[0]), dtype)
             # Row 0 of the image is its top: store it at the texture's top (GL's t = 1).
-            self._depth.write(np.ascontiguousarray(d.data[::-1], dtype=np.float32) * np.float32(0.001))
-            self._depth_seq = frame.seq
-        return self._depth
+            tex.write(pixels if scale is None else pixels * pixels.dtype.type(scale))
+            self._seqs[name] = self.frame.seq
+        return self._textures[name]
+
+    def depth(self) -> moderngl.Texture | None:
+        if self.frame is None or self.frame.depth is None:
+            return None
+        return self._image("depth", self.frame.depth.data, "f4", 0.001)
 
     def mask(self) -> moderngl.Texture | None:
-        frame = self.frame
-        if frame is None or frame.user_mask is None:
-            return None
-        if frame.seq != self._mask_seq:
-            m = frame.user_mask
-            self._mask = self._texture(self._mask, (m.shape[1], m.shape[0]), "f1")
-            self._mask.write(np.ascontiguousarray(m[::-1], dtype=np.uint8) * np.uint8(255))
-            self._mask_seq = frame.seq
-        return self._mask
+        return None if self.frame is None else self._image("mask", self.frame.user_mask, "f1", 255)
+
+    def labels(self) -> moderngl.Texture | None:
+        return None if self.frame is None else self._image("labels", self.frame.user_labels, "f1", None)
 
     def release(self) -> None:
-        for tex in (self._depth, self._mask):
-            if tex is not None:
-                tex.release()
+        for tex in self._textures.values():
+            tex.release()
+        self._textures.clear()
+        self._seqs.clear()

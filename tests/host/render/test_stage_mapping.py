@@ -12,7 +12,7 @@ PATH = [(-700.0 + 25 * i, 400.0 - 10 * i, 2000.0) for i in range(16)]  # right h
 
 
 def trail_effect():
-    return HandTrails(HandTrails.Options(colors=[(0.0, 1.0, 0.0)], size=0.03))
+    return HandTrails(HandTrails.Options(by_user=False, colors=[(0.0, 1.0, 0.0)], size=0.03))
 
 
 def expected(stage, frame, position, keystone=None):
