@@ -5,7 +5,8 @@ tracker gives each a stable id (people.py), and each user's own HandTracker (bod
 tracks) and GestureRecognizer run on that user's segment alone, so two performers' strokes never
 mix. Hand ids come from one count shared by all users (unique in a frame); with one performer the
 hands, ids and gestures are those of the single-user tracker. A user hidden for now (behind
-another) keeps their pipeline, whose hands time out as hands do; a LOST user's pipeline ends.
+another) keeps their pipeline and is reported TRACKING, their two hands held where last seen,
+until the people tracker says LOST; then their pipeline ends.
 
 Each user's pipeline sees only the box around them on the shared grid (with a margin wider than
 the body estimate's widest opening, so every result is the same as on the whole grid, image
@@ -160,19 +161,23 @@ class Engine:
         return Segment(mask[box], Grid(g.z[box], g.x[box], g.y[box], g.pixel_area_mm2[box], g.cell_x, g.cell_y))
 
     def _pipeline(self, uid: int) -> _Pipeline:
-        return _Pipeline(HandTracker(self.options, self._hand_ids, uid),
+        # the user's hands are held while they are hidden, until the people tracker says LOST
+        return _Pipeline(HandTracker(self.options, self._hand_ids, uid, user_timeout_s=float("inf")),
                          GestureRecognizer(self.options.gestures, self.dictionary))
 
     def _user(self, uid: int, segment: Segment | None, result: TrackResult, pipeline: _Pipeline,
               t: float) -> User | None:
         """The user as reported now: from this frame's body when seen (the skeleton's joints and
         centre of mass when it has them, else the body frame's torso and head and the segment's
-        mean); hidden for up to the hands' `hold_s`, where last seen; longer, left out until seen
-        again or LOST."""
+        mean); hidden (behind someone, a dropout), still TRACKING until LOST, where last seen:
+        after the hands' `hold_s`, with joint confidences 0 (NiTE's tracked but not visible)."""
         if segment is None or not result.body:
-            if pipeline.user is None or t - pipeline.seen > self.options.hold_s:
+            if pipeline.user is None:
                 return None
-            return replace(pipeline.user, state=HandState.TRACKING)
+            user = replace(pipeline.user, state=HandState.TRACKING)
+            if t - pipeline.seen > self.options.hold_s:
+                user = replace(user, joints={name: Joint(j.position, 0.0) for name, j in user.joints.items()})
+            return user
         g, mask = segment.grid, segment.mask
         mass = result.center_of_mass or (float(g.x[mask].mean()), float(g.y[mask].mean()), float(g.z[mask].mean()))
         joints = result.joints or {name: Joint(p) for name, p in result.body.items()}

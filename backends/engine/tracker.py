@@ -109,10 +109,13 @@ def _vec(a: np.ndarray) -> Vec3:
 
 class HandTracker:
     def __init__(self, options: TrackerOptions | None = None, ids: Iterator[int] | None = None,
-                 user_id: int = 1) -> None:
+                 user_id: int = 1, user_timeout_s: float | None = None) -> None:
         """`ids`: where hand ids come from (the engine's users share one count: ids stay unique);
-        `user_id`: whose skeleton this is (its hands' ids are that user's)."""
+        `user_id`: whose skeleton this is (its hands' ids are that user's); `user_timeout_s`: how
+        long the user may be out of sight, both hands held where they were last seen, before the
+        hands are LOST (default `lost_timeout_s`; the engine's people tracker decides instead)."""
         self.options = options or TrackerOptions()
+        self.user_timeout_s = self.options.lost_timeout_s if user_timeout_s is None else user_timeout_s
         self.segmenter = Segmenter(self.options.segmentation)
         self.body_estimator = BodyEstimator(self.options.body, self.options.body_smoothing)
         self.detector = HandDetector(self.options.hands)
@@ -132,8 +135,8 @@ class HandTracker:
             self.body_estimator.reset()
             hands = self._update_tracks(t, [], None, mirrored)
             unseen = t - self._user_seen if self._user_seen is not None else np.inf
-            held = self.skeleton.held(hands) if unseen <= self.options.hold_s else ()
-            return TrackResult(hands, {}, user_hands=self.skeleton.lost() if unseen > self.options.lost_timeout_s else held)
+            lost = unseen > self.user_timeout_s
+            return TrackResult(hands, {}, user_hands=self.skeleton.lost() if lost else self.skeleton.held(hands))
         self._user_seen = t
         candidates = self.detector.detect(seg, body)
         hands = self._update_tracks(t, candidates, body.torso, mirrored)

@@ -137,7 +137,7 @@ def test_nuitrack_mode_reports_both_hands_while_the_user_is_in_view(wave):
     step = wave[1].timestamp - wave[0].timestamp
     empty = [DepthFrame(np.zeros_like(wave[-1].data), wave[-1].intrinsics, frame_id=len(wave) + i,
                         timestamp=wave[-1].timestamp + (i + 1) * step, mirrored=wave[-1].mirrored)
-             for i in range(int(1.0 / step))]  # the performer walks out: a second of empty depth
+             for i in range(int(2.0 / step))]  # the performer walks out: two seconds of empty depth
     out = play(OpenISSNuitrackBackend, wave + empty)
     in_view, gone = out[:len(wave)], out[len(wave):]
     assert all({(h.id, h.side.value, h.user_id) for h in f.hands} == {(1, "left", 1), (2, "right", 1)}
@@ -155,8 +155,11 @@ def test_nuitrack_mode_reports_both_hands_while_the_user_is_in_view(wave):
     assert {h.side.value for h, _ in seen} == {"right"}, "only the waving hand is extended"
     waves = [g for g in completed(out) if g.name == "wave"]
     assert waves and all(g.hand_id == 2 for g in waves), "gestures name the side's id"
-    held = [h for f in gone for h in f.hands if h.in_view]  # a dropout as short as the tracker's hold
-    assert all(h.state is HandState.TRACKING for h in held) and len(held) <= 2 * 3
+    # out of sight, the user is still tracked (hands held where last seen) until the user is LOST
+    timeout = OpenISSNuitrackBackend.Options().people.lost_timeout_s
+    held = [(f, h) for f, d in zip(gone, empty) for h in f.hands if h.in_view]
+    assert all(h.state is HandState.TRACKING for _, h in held)
+    assert {f.seq for f, _ in held} == {f.seq for f, d in zip(gone, empty) if d.timestamp - wave[-1].timestamp <= timeout}
     lost = [h for f in gone for h in f.hands if not h.in_view]
     assert sorted((h.id, h.state) for h in lost) == [(1, HandState.LOST), (2, HandState.LOST)]
 

@@ -76,6 +76,24 @@ def test_ids_are_kept_through_a_crossing(crossing):
     assert xs[0] < -600 and xs[1] > 600
 
 
+def test_a_user_hidden_behind_another_stays_tracked_with_both_hands(crossing):
+    """While the far performer is hidden, they are still a TRACKING user (joints at confidence 0 once
+    unseen) with both hands held where last seen: no LOST and NEW again around a crossing (an
+    OSCeleton consumer would get /lost_user)."""
+    results = run(crossing)
+    ids = {u.id for u in results[0].users}
+    hidden, reported = 0, set()
+    for result in results[1:]:
+        assert {u.id for u in result.users} == ids
+        assert all(u.state is HandState.TRACKING for u in result.users)
+        hands = {(h.user_id, h.side) for h in result.user_hands if h.in_view}
+        assert reported <= hands  # a hand once reported stays, hidden or not
+        reported |= hands
+        hidden += any(all(j.confidence == 0.0 for j in u.joints.values()) for u in result.users)
+    assert len(reported) == 4
+    assert hidden > 0  # the far one was really out of sight for a while
+
+
 def test_each_users_gestures_carry_their_user_id(gesturing):
     results = run(gesturing)
     ids = who_is_who(gesturing[10], results[10])
