@@ -12,7 +12,7 @@ from dataclasses import replace
 
 from host import (Backend, DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState, Joint,
                   Side, Truth, TruthGesture, User, Vec3)
-from backends.users import MASS
+from backends.users import center_of_mass
 
 
 class TruthBackend(Backend):
@@ -57,9 +57,8 @@ class TruthBackend(Backend):
         users = []
         for u in truth.users:
             joints = {name: Joint(p) for name, p in u.body.items()}
-            mass = [joints[n].position for n in MASS if n in joints]
-            centre = tuple(sum(c) / len(mass) for c in zip(*mass)) if mass else None
-            users.append(User(u.id, HandState.TRACKING if u.id in self._present else HandState.NEW, joints, centre))
+            state = HandState.TRACKING if u.id in self._present else HandState.NEW
+            users.append(User(u.id, state, joints, center_of_mass(joints)))
         here = {u.id for u in users}
         gone = [replace(u, state=HandState.LOST) for i, u in self._present.items() if i not in here]
         self._present = {u.id: u for u in users}

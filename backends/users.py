@@ -25,6 +25,12 @@ HANDS = {Side.LEFT: ("left_hand", 1), Side.RIGHT: ("right_hand", 2)}
 MASS = ("torso", "left_hip", "right_hip")  # a skeleton's centre of mass, roughly: the trunk's mean
 
 
+def center_of_mass(joints: Mapping[str, Joint]) -> Vec3 | None:
+    """A skeleton's centre of mass, roughly: the mean of its trunk joints (None without any)."""
+    points = [joints[n].position for n in MASS if n in joints]
+    return tuple(sum(c) / len(points) for c in zip(*points)) if points else None
+
+
 def hand_id(user: int, side: Side) -> int:
     return 10 * user + HANDS[side][1]
 
@@ -126,7 +132,7 @@ class Users:
                 del self._users[key]  # came and went between two frames: never shown
                 continue
             u.reported = True
-            users.append(User(u.id, state, dict(u.joints), self._mass(u)))
+            users.append(User(u.id, state, dict(u.joints), center_of_mass(u.joints)))
             hands += self._hands(u, state)
             if u.lost:
                 del self._users[key]
@@ -145,11 +151,6 @@ class Users:
                 out.append(Hand(hand_id(u.id, side), state, j.position, side, u.id, j.confidence,
                                 extended(j.position, torso, self.reach_mm)))
         return out
-
-    @staticmethod
-    def _mass(u: _User) -> Vec3 | None:
-        points = [u.joints[n].position for n in MASS if n in u.joints]
-        return tuple(sum(c) / len(points) for c in zip(*points)) if points else None
 
 
 class BlankDepth:
