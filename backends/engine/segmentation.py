@@ -17,6 +17,7 @@ import cv2
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
+from backends.engine.quantiles import median, percentiles
 from host import DepthFrame
 
 ONE_CELL_GAP = cv2.getStructuringElement(cv2.MORPH_CROSS, (3, 3))  # closing with it bridges a missing cell
@@ -183,7 +184,8 @@ class Segmenter:
         support = pts[inliers[:, best]]
         if len(support) < max(30, 0.1 * len(pts)):
             return None
-        span = np.percentile(support[:, 0], 95) - np.percentile(support[:, 0], 5)
+        high, low = percentiles(support[:, 0], (95, 5))
+        span = high - low
         return planes[best] if span >= o.floor_min_span_mm else None
 
     # -- surfaces and the user ---------------------------------------------------------------
@@ -217,7 +219,7 @@ class Segmenter:
         """Give back the user's cells that were cut as the far side of a jump onto the user itself
         (the chest behind an arm held across it); the far background stays out."""
         near = cv2.dilate(mask.view(np.uint8), np.ones((3, 3), np.uint8)).view(bool)
-        depth = float(np.median(g.z[mask]))
+        depth = float(median(g.z[mask]))
         return mask | (near & cut & (np.abs(g.z - depth) < self.options.rim_depth_mm))
 
     def _enclosed(self, g: Grid, labels: np.ndarray, sized: np.ndarray, box: np.ndarray, k: int,

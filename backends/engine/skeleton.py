@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
+from backends.engine.quantiles import median
 from backends.engine.segmentation import Grid, Segment
 from backends.engine.trunk import Body
 from backends.users import hand_id
@@ -181,7 +182,7 @@ class SkeletonEstimator:
         lo, hi = o.shoulder_half_width_mm
         edge = side.edge[np.abs(view.rows_y - (body.shoulder_y - 60)) < 60]
         edge = edge[np.isfinite(edge)]
-        half = min(hi, max(lo, float(np.median(edge)) - o.shoulder_inside_edge_mm)) if edge.size else 0.5 * (lo + hi)
+        half = min(hi, max(lo, float(median(edge)) - o.shoulder_inside_edge_mm)) if edge.size else 0.5 * (lo + hi)
         return np.array([body.torso[0] + outwards * half, body.shoulder_y, body.surface_z + o.joint_depth_mm])
 
     def _knee(self, out: list[Hand], beside: np.ndarray, body: Body) -> bool:
@@ -201,7 +202,7 @@ class SkeletonEstimator:
         # The legs' outer edge: the median over the thighs' rows, where legs are seen.
         legs_lo, legs_hi = body.hip_y - o.legs_below_hips_mm[1], body.hip_y - o.legs_below_hips_mm[0]
         legs = edge[(rows_y > legs_lo) & (rows_y < legs_hi) & np.isfinite(edge)]
-        legs_edge = float(np.median(legs)) if legs.size >= 3 else o.legs_half_width_mm
+        legs_edge = float(median(legs)) if legs.size >= 3 else o.legs_half_width_mm
         arm_rows = (rows_y < top) & (rows_y > bottom) & (edge > legs_edge + o.beside_legs_mm)
         beside = bool(arm_rows.any())
         if beside:

@@ -13,6 +13,7 @@ import cv2
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
+from backends.engine.quantiles import median, percentile
 from backends.engine.segmentation import Segment
 from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
 
@@ -71,7 +72,7 @@ class BodyEstimator:
         o, g, mask = self.options, seg.grid, seg.mask
         if not mask.any():
             return None
-        ref = self._surface_z if self._surface_z is not None else float(np.median(g.z[mask]))
+        ref = self._surface_z if self._surface_z is not None else float(median(g.z[mask]))
         k = max(3, int(round(o.core_width_mm / (g.cell_x * ref))))
         kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k, k))
         # The trunk's position and depth come from the part near its own plane (an arm held in
@@ -86,8 +87,8 @@ class BodyEstimator:
         outline = self._open(mask, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k_outline, k_outline)))
         if outline.sum() < 4:
             outline = core
-        centre_x = float(np.median(g.x[core]))
-        shoulder_y = float(np.percentile(g.y[outline], 98)) - o.shoulder_below_core_top_mm
+        centre_x = float(median(g.x[core]))
+        shoulder_y = float(percentile(g.y[outline], 98)) - o.shoulder_below_core_top_mm
         spine_strip = mask & (np.abs(g.x - centre_x) < o.head_radius_mm)
         column = spine_strip & (np.abs(g.z - ref) < o.plane_band_mm)
         crown = self._crown(g.y, column, spine_strip & (g.z <= ref - o.plane_band_mm), o.head_radius_mm)
@@ -108,8 +109,8 @@ class BodyEstimator:
         # (each cell's ray at the trunk's depth): an arm across the chest hides part of the trunk
         # and would pull the middle of what is left away from the spine.
         seen = self._open(mask & (g.z < ref + o.plane_band_mm), kernel) & trunk_rows | trunk
-        tx = float(np.median(g.x[seen] / g.z[seen])) * ref
-        tx, shoulder_y, surface = self._frame(t, np.array([tx, shoulder_y, np.median(g.z[trunk])]))
+        tx = float(median(g.x[seen] / g.z[seen])) * ref
+        tx, shoulder_y, surface = self._frame(t, np.array([tx, shoulder_y, median(g.z[trunk])]))
         self._surface_z = surface
         torso = np.array([tx, shoulder_y - o.spine_below_shoulder_mm, surface + o.joint_depth_mm])
         head_cells = column & (g.y > shoulder_y + 100)
@@ -118,8 +119,8 @@ class BodyEstimator:
         if crown is None or not head_cells.any():
             head = np.array([tx, shoulder_y + o.shoulder_below_crown_mm - o.crown_above_head_mm, torso[2]])
         else:
-            head = np.array([np.median(g.x[head_cells]), crown - o.crown_above_head_mm,
-                             np.median(g.z[head_cells]) + o.joint_depth_mm])
+            head = np.array([median(g.x[head_cells]), crown - o.crown_above_head_mm,
+                             median(g.z[head_cells]) + o.joint_depth_mm])
         head = self._head_filter(t, head)
         return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface, head[2] - o.joint_depth_mm, core)
 
@@ -129,7 +130,7 @@ class BodyEstimator:
         rows = np.flatnonzero(cells.sum(axis=1) >= 2)
         if rows.size == 0:
             return None
-        return float(np.median(y[rows[0]][cells[rows[0]]]))
+        return float(median(y[rows[0]][cells[rows[0]]]))
 
     @classmethod
     def _crown(cls, y: np.ndarray, column: np.ndarray, in_front: np.ndarray, hidden_mm: float) -> float | None:
