@@ -70,6 +70,20 @@ class Grid:
     def shape(self) -> tuple[int, int]:
         return self.z.shape  # type: ignore[return-value]
 
+    def crop(self, box: tuple[slice, slice]) -> "Grid":
+        """The grid's cells in `box` (views, no copies)."""
+        return Grid(self.z[box], self.x[box], self.y[box], self.pixel_area_mm2[box], self.cell_x, self.cell_y)
+
+
+def bounding_box(mask: np.ndarray, margin: int = 0) -> tuple[slice, slice] | None:
+    """The rows and columns holding `mask`'s cells, `margin` cells wider on each side (within the
+    array); None for an empty mask."""
+    rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
+    if rows.size == 0:
+        return None
+    return (slice(max(0, rows[0] - margin), rows[-1] + margin + 1),
+            slice(max(0, cols[0] - margin), cols[-1] + margin + 1))
+
 
 @dataclass(frozen=True)
 class Segment:

@@ -24,7 +24,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.quantiles import median
-from backends.engine.segmentation import Grid, Segment
+from backends.engine.segmentation import Grid, Segment, bounding_box
 from backends.engine.trunk import Body
 from backends.users import hand_id
 from host import Hand, HandState, Joint, Side, Vec3
@@ -271,11 +271,8 @@ class _View:
 
     @classmethod
     def of(cls, seg: Segment, body: Body, behind_mm: float) -> "_View":
-        rows, cols = np.flatnonzero(seg.mask.any(axis=1)), np.flatnonzero(seg.mask.any(axis=0))
-        box = np.s_[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]
-        g = seg.grid
-        grid = Grid(g.z[box], g.x[box], g.y[box], g.pixel_area_mm2[box], g.cell_x, g.cell_y)
-        mask = seg.mask[box]
+        box = bounding_box(seg.mask)
+        grid, mask = seg.grid.crop(box), seg.mask[box]
         return cls(grid, mask, grid.x - body.torso[0], mask & (grid.z - body.surface_z < behind_mm),
                    _row_heights(grid.y, mask))
 
