@@ -85,7 +85,7 @@ class BodyEstimator:
         # can only push up: the top of the outline without its thin parts (an arm across the
         # chest stays inside it), and the crown of the head less the head and neck.
         plane = mask & (g.z > ref - o.plane_band_mm)
-        core = self._open(plane, kernel)
+        core = opened = self._open(plane, kernel)
         if core.sum() < 4:
             core = plane if plane.any() else mask
         outline = self._open(mask, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k_outline, k_outline)))
@@ -112,7 +112,8 @@ class BodyEstimator:
         # The spine's x from the trunk as the camera sees its outline, whatever lies in front of it
         # (each cell's ray at the trunk's depth): an arm across the chest hides part of the trunk
         # and would pull the middle of what is left away from the spine.
-        seen = self._open(mask & (g.z < ref + o.plane_band_mm), kernel) & trunk_rows | trunk
+        before = mask & (g.z < ref + o.plane_band_mm)  # often the plane itself (nothing in front, nothing behind)
+        seen = (opened if np.array_equal(before, plane) else self._open(before, kernel)) & trunk_rows | trunk
         tx = float(median(g.x[seen] / g.z[seen])) * ref
         tx, shoulder_y, surface = self._frame(t, np.array([tx, shoulder_y, median(g.z[trunk])]))
         self._surface_z = surface
