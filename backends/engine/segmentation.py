@@ -37,6 +37,9 @@ class SegmentationOptions(BaseModel):
     floor_tolerance_mm: float = Field(60, gt=0, description="points this close to the floor plane are floor")
     floor_max_tilt_deg: float = Field(40, gt=0, lt=90, description="how far the floor normal may lean from the camera's up")
     floor_min_span_mm: float = Field(1000, gt=0, description="a floor is at least this wide (a seated lap is not)")
+    floor_every: int = Field(10, ge=1, description=(
+        "the floor is looked for afresh every this many frames (the camera stands still); in between, "
+        "the floor last found (or none) is kept"))
     min_user_area_m2: float = Field(0.08, gt=0, description="frontal area of the smallest user (a head and shoulders)")
     min_user_height_mm: float = Field(450, gt=0)
     max_user_width_mm: float = Field(2300, gt=0, description="arms spread; a wall is wider")
@@ -111,6 +114,8 @@ class Segmenter:
         self.options = options
         self._rays: dict[tuple, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
         self._floor: np.ndarray | None = None  # (nx, ny, nz, d): n.p + d = height above the floor
+        self._plane: np.ndarray | None = None  # the floor removed now (None: none found when last looked)
+        self._floor_age = 0  # frames since the segmenter started: the floor is looked for every `floor_every`
         self._last_mask: np.ndarray | None = None
         self._rng = np.random.default_rng(0)
 
@@ -160,10 +165,14 @@ class Segmenter:
 
     # -- floor -------------------------------------------------------------------------------
     def _floor_mask(self, g: Grid, valid: np.ndarray) -> np.ndarray:
-        plane = self._find_floor(g, valid)
+        if self._floor_age % self.options.floor_every == 0:
+            self._plane = self._find_floor(g, valid)
+            if self._plane is not None:
+                self._floor = self._plane
+        self._floor_age += 1
+        plane = self._plane
         if plane is None:
             return np.zeros_like(valid)
-        self._floor = plane
         height = g.x * plane[0] + g.y * plane[1] + g.z * plane[2] + plane[3]
         return valid & (height < self.options.floor_tolerance_mm + 0.01 * g.z)
 

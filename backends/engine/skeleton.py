@@ -231,15 +231,14 @@ class SkeletonEstimator:
         """The grid row where the hanging arm ends: going down the first run of arm rows (a row
         or two may be missing), the last one before the outline steps in by `fingertip_step_mm`
         (the thigh below the fingers), else the run's last row."""
-        o = self.options
-        end = 0
-        while end + 1 < len(rows) and rows[end + 1] - rows[end] <= 2:
-            end += 1
-        run = rows[: end + 1]
-        for k in range(1, len(run)):
-            if edge[run[max(0, k - 3):k]].max() - edge[run[k]] > o.fingertip_step_mm:
-                return int(run[k - 1])
-        return int(run[-1])
+        gaps = np.flatnonzero(np.diff(rows) > 2)
+        run = rows[: gaps[0] + 1] if gaps.size else rows
+        out = edge[run]
+        above = np.full((3, len(run)), -np.inf)  # the outline of each of the three rows above
+        for lag in (1, 2, 3):
+            above[lag - 1, lag:] = out[:-lag]
+        steps = np.flatnonzero(above.max(axis=0) - out > self.options.fingertip_step_mm)
+        return int(run[steps[0] - 1]) if steps.size else int(run[-1])
 
     def _elbow(self, view: _View, shoulder: np.ndarray, hand: np.ndarray) -> Joint | None:
         """The user's cell nearest the middle of shoulder and hand, if it is an upper arm from the
