@@ -246,11 +246,13 @@ class SkeletonEstimator:
         o, g = self.options, view.grid
         middle = 0.5 * (shoulder + hand)
         band = _rows(view.rows_y, middle[1] - 150, middle[1] + 150)
-        near = view.mask[band] & (np.abs(g.x[band] - middle[0]) < 150)
+        x = g.x[band]
+        near = view.mask[band] & (np.abs(x - middle[0]) < 150)
         if not near.any():
             return None
-        pts = np.stack([g.x[band][near], g.y[band][near], g.z[band][near]], axis=1)
-        cell = pts[int(np.argmin(np.linalg.norm(pts - middle, axis=1)))] + (0.0, 0.0, o.hand_depth_mm)
+        x, y, z = x[near], g.y[band][near], g.z[band][near]
+        i = int(np.argmin(np.sqrt((x - middle[0]) ** 2 + (y - middle[1]) ** 2 + (z - middle[2]) ** 2)))
+        cell = np.array([x[i], y[i], z[i]], np.float64) + (0.0, 0.0, o.hand_depth_mm)
         lo, hi = o.upper_arm_mm
         upper, fore = np.linalg.norm(cell - shoulder), np.linalg.norm(cell - hand)
         if not (lo <= upper <= hi and lo <= fore <= hi):
