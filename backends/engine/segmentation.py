@@ -273,8 +273,9 @@ class Segmenter:
         area = np.bincount(flat, weights=g.pixel_area_mm2.ravel(), minlength=count)
         area[0] = 0
         n = np.maximum(np.bincount(flat, minlength=count), 1)  # cells per surface (with readings)
-        mean = [np.bincount(flat, weights=c.ravel(), minlength=count) / n for c in (g.x, g.y, g.z)]
-        zz = np.bincount(flat, weights=(g.z.astype(np.float64) ** 2).ravel(), minlength=count) / n
+        z = g.z.astype(np.float64).ravel()
+        mean = [np.bincount(flat, weights=c, minlength=count) / n for c in (g.x.ravel(), g.y.ravel(), z)]
+        zz = np.bincount(flat, weights=z * z, minlength=count) / n
         spread = np.sqrt(np.maximum(zz - mean[2] ** 2, 0))
         ext_w = stats[:, cv2.CC_STAT_WIDTH] * g.cell_x * mean[2]  # bounding box in mm at the mean depth
         ext_h = stats[:, cv2.CC_STAT_HEIGHT] * g.cell_y * mean[2]

@@ -295,8 +295,7 @@ def _row_heights(y: np.ndarray, mask: np.ndarray) -> np.ndarray:
     """Each grid row's height in mm (the median over its user cells; NaN for empty rows)."""
     counts = mask.sum(axis=1)
     sums = np.where(mask, y, 0).sum(axis=1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
+    return np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
 
 
 def _vec(a: np.ndarray) -> Vec3:

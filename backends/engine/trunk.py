@@ -8,6 +8,7 @@ anatomy in mm (shoulder-to-hip, crown-to-head-centre), the same for every perfor
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cache
 
 import cv2
 import numpy as np
@@ -19,6 +20,12 @@ from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
 
 
 _HOLE = np.ones((3, 3), np.uint8)
+
+
+@cache
+def _disc(k: int) -> np.ndarray:
+    """The k x k elliptic structuring element (a few sizes recur frame after frame)."""
+    return cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k, k))
 
 
 class BodyOptions(BaseModel):
@@ -79,7 +86,7 @@ class BodyEstimator:
         # farther out nothing can change, so all is done on that box (the same result, faster).
         box = bounding_box(mask, max(k, k_outline) // 2 + 2)
         g, mask = g.crop(box), mask[box]
-        kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k, k))
+        kernel = _disc(k)
         # The trunk's position and depth come from the part near its own plane (an arm held in
         # front would drag them); the shoulder line from the lower of two estimates that an arm
         # can only push up: the top of the outline without its thin parts (an arm across the
@@ -88,7 +95,7 @@ class BodyEstimator:
         core = opened = self._open(plane, kernel)
         if core.sum() < 4:
             core = plane if plane.any() else mask
-        outline = self._open(mask, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k_outline, k_outline)))
+        outline = self._open(mask, _disc(k_outline))
         if outline.sum() < 4:
             outline = core
         centre_x = float(median(g.x[core]))
