@@ -23,9 +23,10 @@ _HOLE = np.ones((3, 3), np.uint8)
 
 
 @cache
-def _disc(k: int) -> np.ndarray:
-    """The k x k elliptic structuring element (a few sizes recur frame after frame)."""
-    return cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k, k))
+def _disc(k: int, transposed: bool = False) -> np.ndarray:
+    """The k x k elliptic structuring element, or its transpose (a few sizes recur frame after frame)."""
+    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k, k))
+    return np.ascontiguousarray(disc.T) if transposed else disc
 
 
 class BodyOptions(BaseModel):
@@ -86,16 +87,15 @@ class BodyEstimator:
         # farther out nothing can change, so all is done on that box (the same result, faster).
         box = bounding_box(mask, max(k, k_outline) // 2 + 2)
         g, mask = g.crop(box), mask[box]
-        kernel = _disc(k)
         # The trunk's position and depth come from the part near its own plane (an arm held in
         # front would drag them); the shoulder line from the lower of two estimates that an arm
         # can only push up: the top of the outline without its thin parts (an arm across the
         # chest stays inside it), and the crown of the head less the head and neck.
         plane = mask & (g.z > ref - o.plane_band_mm)
-        core = opened = self._open(plane, kernel)
+        core = opened = self._open(plane, k)
         if core.sum() < 4:
             core = plane if plane.any() else mask
-        outline = self._open(mask, _disc(k_outline))
+        outline = self._open(mask, k_outline)
         if outline.sum() < 4:
             outline = core
         centre_x = float(median(g.x[core]))
@@ -120,7 +120,7 @@ class BodyEstimator:
         # (each cell's ray at the trunk's depth): an arm across the chest hides part of the trunk
         # and would pull the middle of what is left away from the spine.
         before = mask & (g.z < ref + o.plane_band_mm)  # often the plane itself (nothing in front, nothing behind)
-        seen = (opened if np.array_equal(before, plane) else self._open(before, kernel)) & trunk_rows | trunk
+        seen = (opened if np.array_equal(before, plane) else self._open(before, k)) & trunk_rows | trunk
         tx = float(median(g.x[seen] / g.z[seen])) * ref
         tx, shoulder_y, surface = self._frame(t, np.array([tx, shoulder_y, median(g.z[trunk])]))
         self._surface_z = surface
@@ -158,9 +158,14 @@ class BodyEstimator:
         return crown
 
     @staticmethod
-    def _open(mask: np.ndarray, kernel: np.ndarray) -> np.ndarray:
-        """The cells of `mask` that remain after removing everything thinner than the kernel.
+    def _open(mask: np.ndarray, k: int) -> np.ndarray:
+        """The cells of `mask` that remain after removing everything thinner than a k-cell disc.
         One-cell holes (missing readings, the shadow a depth sensor casts beside an arm) are
-        filled for the shape but left out of the result: they have no depth to take a median of."""
-        filled = cv2.morphologyEx(mask.view(np.uint8), cv2.MORPH_CLOSE, _HOLE)
-        return cv2.morphologyEx(filled, cv2.MORPH_OPEN, kernel).view(bool) & mask
+        filled for the shape but left out of the result: they have no depth to take a median of.
+        A standing body is taller than wide: OpenCV's filters run faster along long rows, so the
+        picture and the disc are transposed then (the same result)."""
+        tall = mask.shape[0] > mask.shape[1]
+        cells = np.ascontiguousarray(mask.T) if tall else mask
+        filled = cv2.morphologyEx(cells.view(np.uint8), cv2.MORPH_CLOSE, _HOLE)
+        opened = cv2.morphologyEx(filled, cv2.MORPH_OPEN, _disc(k, tall)).view(bool)
+        return (opened.T if tall else opened) & mask
