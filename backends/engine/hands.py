@@ -77,7 +77,8 @@ class HandDetector:
         tx, _, _ = body.torso
         dx = g.x - tx
         front = body.surface_z - g.z
-        head_clear = np.hypot(g.x - body.head[0], g.y - body.head[1]) > o.head_clearance_mm
+        hx, hy = g.x - body.head[0], g.y - body.head[1]
+        head_clear = hx * hx + hy * hy > o.head_clearance_mm ** 2
         extended = (((front > o.front_mm) & (head_clear | (body.face_z - g.z > o.front_mm)))
                     | ((np.abs(dx) > o.beside_mm) & ~core)
                     | ((g.y > body.shoulder_y + o.above_shoulder_mm) & head_clear))
