@@ -38,8 +38,8 @@ class SegmentationOptions(BaseModel):
     floor_max_tilt_deg: float = Field(40, gt=0, lt=90, description="how far the floor normal may lean from the camera's up")
     floor_min_span_mm: float = Field(1000, gt=0, description="a floor is at least this wide (a seated lap is not)")
     floor_every: int = Field(10, ge=1, description=(
-        "the floor is looked for afresh every this many frames (the camera stands still); in between, "
-        "the floor last found (or none) is kept"))
+        "a floor found is kept for this many frames (the camera stands still), then looked for afresh; "
+        "while none is found, it is looked for in every frame"))
     min_user_area_m2: float = Field(0.08, gt=0, description="frontal area of the smallest user (a head and shoulders)")
     min_user_height_mm: float = Field(450, gt=0)
     max_user_width_mm: float = Field(2300, gt=0, description="arms spread; a wall is wider")
@@ -115,7 +115,7 @@ class Segmenter:
         self._rays: dict[tuple, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
         self._floor: np.ndarray | None = None  # (nx, ny, nz, d): n.p + d = height above the floor
         self._plane: np.ndarray | None = None  # the floor removed now (None: none found when last looked)
-        self._floor_age = 0  # frames since the segmenter started: the floor is looked for every `floor_every`
+        self._floor_age = 0  # frames since `_plane` was found
         self._last_mask: np.ndarray | None = None
         self._rng = np.random.default_rng(0)
 
@@ -165,8 +165,8 @@ class Segmenter:
 
     # -- floor -------------------------------------------------------------------------------
     def _floor_mask(self, g: Grid, valid: np.ndarray) -> np.ndarray:
-        if self._floor_age % self.options.floor_every == 0:
-            self._plane = self._find_floor(g, valid)
+        if self._plane is None or self._floor_age >= self.options.floor_every:
+            self._plane, self._floor_age = self._find_floor(g, valid), 0
             if self._plane is not None:
                 self._floor = self._plane
         self._floor_age += 1
