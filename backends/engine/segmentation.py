@@ -261,27 +261,25 @@ class Segmenter:
         """
         o = self.options
         x, y, w, h = (int(v) for v in box[:4])
-        mask = labels[y:y + h, x:x + w] == k
-        height = np.where(mask, g.y[y:y + h, x:x + w], np.nan)
-        crown = np.nanmax(height)
-        if crown - np.nanmin(height) < o.min_cut_user_height_mm:
+        box_ = np.s_[y:y + h, x:x + w]
+        mask = labels[box_] == k
+        ys, zs = g.y[box_], g.z[box_]
+        heights = ys[mask]
+        crown = float(heights.max())
+        if crown - float(heights.min()) < o.min_cut_user_height_mm:
             return False
-        widths = np.where(mask, g.z[y:y + h, x:x + w] * g.cell_x, 0)
-
-        def widest(band: np.ndarray) -> float:
-            return float(np.max(np.sum(np.where(band, widths, 0), axis=1)))
-
-        below = crown - height  # NaN outside the surface: every comparison is False there
-        top = below <= HEAD_MM
-        head = widest(top)
-        shoulders = widest((below > HEAD_MM) & (below <= SHOULDERS_MM))
+        top = mask & (ys >= crown - HEAD_MM)
+        chest = mask & (ys < crown - HEAD_MM) & (ys >= crown - SHOULDERS_MM)
+        head = float((zs * top).sum(axis=1).max()) * g.cell_x
+        shoulders = float((zs * chest).sum(axis=1).max()) * g.cell_x
         if head > o.max_head_width_mm or shoulders < max(o.min_shoulder_width_mm, SHOULDERS_TO_HEAD * head):
             return False
         columns = np.flatnonzero(top.any(axis=0))
         first = y + np.argmax(top[:, columns], axis=0)  # the crown's row in each of its columns
-        depth = float(np.median(g.z[y:y + h, x:x + w][top]))
-        z = np.where(labels[:, x + columns] > 0, g.z[:, x + columns], 0)  # surfaces (a cut band is no cover)
-        over = ((np.arange(len(z))[:, None] < first) & (g.y[:, x + columns] < crown + ABOVE_CROWN_MM)
+        depth = float(zs[top].mean())
+        cols = np.s_[:y + h, x + columns]
+        z = g.z[cols] * (labels[cols] > 0)  # surfaces only (a cut band is no cover)
+        over = ((np.arange(y + h)[:, None] < first) & (g.y[cols] < crown + ABOVE_CROWN_MM)
                 & (z > 0) & (z < depth + BEHIND_MM))
         return float(over.any(axis=0).mean()) <= MAX_COVERED
 
