@@ -3,7 +3,8 @@
 On a coarse grid (about 160 columns whatever the sensor's resolution) the depth becomes world
 millimetres; a floor plane found by RANSAC among near-horizontal planes is removed; depth jumps
 cut the image into surfaces; every person-sized surface (judged in mm and m^2, not pixels) between
-`min_distance_mm` and `max_distance_mm` (0.5 to 4.5 m) is a person (up to `max_people`, nearest first), and each
+`min_distance_mm` and `max_distance_mm` (0.5 to 4.5 m) is a person (up to `max_people`, nearest first;
+someone so close that the picture's bottom cuts them off when a head sits on shoulders), and each
 small surface within arm's reach in front of a person (a forearm pointed at the camera is cut off
 from the body by its own depth edge) joins the nearest such person. Clips whose background is
 already removed are simply the easy case: no floor is found and the user is the only surface.

@@ -266,7 +266,8 @@ def test_a_child_close_to_the_camera_is_found_at_once_though_cut_off_by_the_pict
 
 def furniture(width: int = 320, height: int = 240) -> DepthFrame:
     """A chair back 450 mm wide, 1 m away, its top 50 mm below the camera, and a desk top 300 mm
-    below the camera from 0.7 to 2.2 m away, both going on below the picture; nothing else."""
+    below the camera from the picture's bottom (0.76 m away) to 2.2 m, both going on below the
+    picture; nothing else."""
     k = Intrinsics.from_fov(width, height, 57.0, 43.0)
     v, u = np.mgrid[0:height, 0:width].astype(np.float64)
     xn, yn = (u - k.cx) / k.fx, (k.cy - v) / k.fy
