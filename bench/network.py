@@ -200,6 +200,7 @@ def subscribe_main(args: argparse.Namespace) -> int:
     backend = NetworkBackend(None, options)
     frames = gestures = 0
     dumped: list[DepthFrame] = []
+    labels: list[np.ndarray | None] = []  # the user labels that came with each dumped depth image
     deadline = time.monotonic() + args.timeout
     with backend:
         print("subscribed", file=sys.stderr, flush=True)
@@ -211,11 +212,16 @@ def subscribe_main(args: argparse.Namespace) -> int:
             gestures += len(frame.gestures)
             if args.dump and frame.depth is not None and (not dumped or dumped[-1] is not frame.depth):
                 dumped.append(frame.depth)
+                labels.append(frame.user_labels)
         stats = backend.stats()
     if args.dump:
+        shape = dumped[0].data.shape if dumped else (0, 0)
         np.savez(args.dump, frame_ids=np.array([d.frame_id for d in dumped], dtype=np.int64),
-                 depth=np.array([d.data for d in dumped], dtype=np.uint16).reshape(-1, *dumped[0].data.shape)
-                 if dumped else np.zeros((0, 0, 0), np.uint16))
+                 timestamps=np.array([d.timestamp for d in dumped], dtype=np.float64),
+                 depth=np.array([d.data for d in dumped], dtype=np.uint16).reshape(-1, *shape),
+                 has_labels=np.array([x is not None for x in labels], dtype=bool),
+                 labels=np.array([np.zeros(shape, np.uint8) if x is None else x for x in labels],
+                                 dtype=np.uint8).reshape(-1, *shape))
     print(json.dumps({"frames": frames, "gestures": gestures, **stats}), flush=True)
     return 0
 
@@ -393,7 +399,8 @@ def main(argv: list[str] | None = None) -> int:
     s.add_argument("--transport", choices=("zmq", "ros"), default="zmq")
     s.add_argument("--ros-depth", choices=("frame", "image"), default="frame")
     s.add_argument("--timeout", type=float, default=60.0)
-    s.add_argument("--dump", metavar="FILE.npz", help="save the depth images received (frame_ids, depth)")
+    s.add_argument("--dump", metavar="FILE.npz",
+                   help="save the depth images received (frame_ids, timestamps, depth, has_labels, labels)")
     parser.add_argument("--json", action="store_true", help="print one JSON object of the figures")
     add_data_argument(parser)
     parser.add_argument("--seconds", type=float, default=20.0,
