@@ -15,6 +15,7 @@ import pytest
 from backends.network.ros import rospy_missing
 from sources.clip import Clip
 from tests.backends.network.conftest import ROOT, Serve, clip_profile, free_ports, stop, wait_for_line
+from tests.backends.network.test_labels import assert_duet_labels_arrived, duet_profile, received, subscribe
 from tests.backends.network.test_users import duet
 from tests.backends.oscin.helpers import replay
 
@@ -113,3 +114,25 @@ def test_users_over_ros_in_the_hands_topic(roscore, tmp_path):
     assert user2["center_of_mass"] is not None
     assert all(extended in (True, False) for f in with_users for _, extended, _ in f["hands"])
     assert {user for f in got for _, user in f["gestures"]} <= {1, 2}
+
+
+def test_the_duet_labels_arrive_over_ros_with_their_depth_images(roscore, tmp_path):
+    """`issv serve --transport ros` of the synthetic duet: <ns>/user_labels (mono8) joins each depth
+    image, as openiss/DepthFrame and as sensor_msgs/Image, in subscriber processes; the labels equal
+    those sent, pixel for pixel."""
+    master = roscore["ROS_MASTER_URI"]
+    subs = {kind: subscribe(tmp_path, master, "--transport", "ros", "--ros-depth", kind, env=roscore, name=kind)
+            for kind in ("frame", "image")}
+    server = Serve(str(duet_profile(tmp_path)), "--transport", "ros", "--bind", master, "--seconds", "4",
+                   env=roscore)
+    try:
+        results = {k: p.communicate(timeout=90) for k, p in subs.items()}
+    finally:
+        server.stop()
+        for p in subs.values():
+            if p.poll() is None:
+                p.kill()
+    for kind, (out, err) in results.items():
+        got = json.loads(out.strip().splitlines()[-1])
+        assert got["malformed"] == {}, err
+        assert_duet_labels_arrived(received(tmp_path / f"{kind}.npz"), late=10)
