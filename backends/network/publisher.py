@@ -157,7 +157,6 @@ class _DepthWorker(threading.Thread):
         if image is not None:
             self.labels_sent += 1
             self.labels_bytes += wire.labels_size(msg)
-            self.raw_bytes += image.nbytes
 
     def close(self) -> None:
         with self._cond:
@@ -268,7 +267,7 @@ class Publisher:
         return {"bind": self.bind, "subscribers": self.subscribers, "sent": dict(self.seq, depth=w.sent),
                 "depth_skipped": w.skipped, "depth_bytes": w.bytes, "labels_sent": w.labels_sent,
                 "labels_bytes": w.labels_bytes,
-                "compression": round(w.raw_bytes / w.bytes, 2) if w.bytes else None}
+                "compression": round(w.raw_bytes / (w.bytes - w.labels_bytes), 2) if w.bytes else None}  # of depth
 
     def close(self) -> None:
         """Say goodbye (with the last sequence numbers, so subscribers can count tail loss)."""

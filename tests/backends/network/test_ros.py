@@ -123,7 +123,7 @@ def test_the_duet_labels_arrive_over_ros_with_their_depth_images(roscore, tmp_pa
     master = roscore["ROS_MASTER_URI"]
     subs = {kind: subscribe(tmp_path, master, "--transport", "ros", "--ros-depth", kind, env=roscore, name=kind)
             for kind in ("frame", "image")}
-    server = Serve(str(duet_profile(tmp_path)), "--transport", "ros", "--bind", master, "--seconds", "4",
+    server = Serve(str(duet_profile(tmp_path)), "--transport", "ros", "--bind", master, "--seconds", "5",
                    env=roscore)
     try:
         results = {k: p.communicate(timeout=90) for k, p in subs.items()}
@@ -135,4 +135,4 @@ def test_the_duet_labels_arrive_over_ros_with_their_depth_images(roscore, tmp_pa
     for kind, (out, err) in results.items():
         got = json.loads(out.strip().splitlines()[-1])
         assert got["malformed"] == {}, err
-        assert_duet_labels_arrived(received(tmp_path / f"{kind}.npz"), late=10)
+        assert_duet_labels_arrived(received(tmp_path / f"{kind}.npz"), late=True)
