@@ -16,7 +16,6 @@ from collections import OrderedDict, deque
 from typing import Literal
 
 import numpy as np
-
 from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
 
 from backends.network import wire
