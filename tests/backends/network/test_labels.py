@@ -147,22 +147,27 @@ def received(dump: Path) -> list[tuple[int, np.ndarray, np.ndarray | None]]:
 
 
 def assert_duet_labels_arrived(got, downscale: int = 1, late: bool = False) -> None:
-    """Every image came with its own labels (with `late`, but for those before the first that did:
-    ROS connects each topic on its own, the labels' maybe a second after depth's on a busy machine):
-    the same users' ids on the same pixels as were sent. Images without a frame id (ROS's
-    sensor_msgs/Image) are found among those sent by their pixels."""
+    """Every image came with its own labels: the same users' ids on the same pixels as were sent.
+    With `late` (ROS, where labels have a topic of their own): but for those before the first that
+    did (rospy connects each topic on its own, the labels' up to a second after depth's on a busy
+    machine) and a few whose labels came later than the frame could wait for them. Images without a
+    frame id (ROS's sensor_msgs/Image) are found among those sent by their pixels."""
     sent = sent_duet(max(200, max(i for i, _, _ in got) + 1))
     by_depth = {depth[::downscale, ::downscale].tobytes(): labels for depth, labels in sent.values()}
+    first = next((n for n, (_, _, labels) in enumerate(got) if labels is not None), len(got))
+    assert first == 0 or late, "the first images came without labels"
+    got = got[first:]
     without = [n for n, (_, _, labels) in enumerate(got) if labels is None]
-    assert without == (list(range(len(without))) if late else []), f"images without labels: {without}"
+    assert len(without) <= (len(got) // 20 if late else 0), f"images without labels: {without}"
     assert len(got) - len(without) >= 40
-    for frame_id, depth, labels in got[len(without):]:
+    got = [g for g in got if g[2] is not None]
+    for frame_id, depth, labels in got:
         labels_sent = by_depth.get(depth.tobytes())
         assert labels_sent is not None, f"image {frame_id} is none of those sent"
         if frame_id:
             assert labels_sent is sent[frame_id][1]
         assert np.array_equal(labels, labels_sent[::downscale, ::downscale])
-    assert {1, 2} <= set(np.unique(np.concatenate([labels.ravel() for _, _, labels in got[len(without):]])))
+    assert {1, 2} <= set(np.unique(np.concatenate([labels.ravel() for _, _, labels in got])))
 
 
 def subscribe(tmp: Path, connect: str, *extra: str, env: dict | None = None, name: str = "got") -> subprocess.Popen:
