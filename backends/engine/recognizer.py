@@ -332,6 +332,9 @@ class _Hand:
             lowest = stroke.lowest
             if not self.seen_throughout(stroke) or self.at_head(stroke.start) or self.at_head(stroke.end):
                 return False
+            # an arm thrown up or down as the body bends or kicks: the head moves relative to the torso
+            if self.head_moved(stroke) > self.r.swipe_vertical_max_head_move_mm * self.rec.size(stroke.start):
+                return False
         else:
             lowest = core.lowest
         return (core.peak_speed >= r.swipe_min_peak_speed_mm_s and core.dominance >= r.swipe_dominance
@@ -435,6 +438,12 @@ class _Hand:
                 and self.hands_apart(stroke) >= r.wave_min_hands_apart_mm * k
                 and self.tilt(stroke) <= r.wave_max_tilt_deg
                 and not self.mirrored_by_other_hand(stroke))
+
+    @staticmethod
+    def head_moved(stroke: Stroke) -> float:
+        """How far the head moved relative to the torso during the stroke, mm (0 without a skeleton's head)."""
+        face = np.array([q.face for q in stroke.samples])
+        return float(np.max(np.linalg.norm(face - face[0], axis=1)))
 
     @staticmethod
     def tilt(stroke: Stroke) -> float:

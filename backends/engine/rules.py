@@ -56,6 +56,10 @@ class GestureRules(BaseModel):
     swipe_low_min_reach_mm: float = Field(
         350.0, gt=0, description="how far out from the spine, on its own side, such a low swipe must end "
         "(beyond the shoulder: a hanging hand is 150-250 mm out)")
+    swipe_vertical_max_head_move_mm: float = Field(
+        80.0, gt=0, description="during a swipe up or down the head moves no more than this relative to the torso "
+        "(for an adult, scaled to the performer's size): the arm moves, the body stays; an arm thrown up or "
+        "down while the body bends, kicks or twists moves the head 90-180 mm")
     swipe_dominance: float = Field(
         1.5, ge=1, description="travel along the swipe direction over the largest travel along the other axes: "
         "diagonal wind-ups and returns stay below it")

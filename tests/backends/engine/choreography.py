@@ -67,7 +67,7 @@ class Performance:
     duration: float
     torso: Callable[[float], np.ndarray] = field(default=lambda t: np.array([0.0, 0.0, 2500.0]))
     mirrored: bool = True
-    lean: float = 0.0  # degrees the body leans to the side: the head is off straight above the torso
+    lean: float | Callable[[float], float] = 0.0  # degrees the body leans to the side (or at time t)
 
     def frames(self, with_body: bool = True, noise_mm: float = 0.0, seed: int = 0):
         """(t, hands, body) per frame; hand positions are world mm (torso + relative pose)."""
@@ -81,7 +81,8 @@ class Performance:
                 rel = path(t) * np.array([sign, 1.0, 1.0])
                 p = torso + rel + rng.normal(0.0, noise_mm, 3)
                 hands.append(Hand(IDS[side], HandState.TRACKING, tuple(float(c) for c in p), side))
-            up = np.array([np.sin(np.radians(self.lean)), np.cos(np.radians(self.lean)), 0.0])
+            lean = np.radians(self.lean(t) if callable(self.lean) else self.lean)
+            up = np.array([np.sin(lean), np.cos(lean), 0.0])
             body = {"torso": tuple(torso), "head": tuple(torso + HEAD_ABOVE_TORSO * up)}
             yield t, hands, (body if with_body else {})
 
@@ -117,6 +118,14 @@ def swipe(travel: float = 500.0, duration: float = 0.5, to_right: bool = False, 
         left = (left.hold(0.3).then(0.6, held).hold(0.3).then(duration, (held[0] + along, held[1], held[2]))
                 .hold(0.4).then(0.8, REST[Side.LEFT]))
     return Performance({Side.LEFT: left, Side.RIGHT: right}, right.end + 0.5)
+
+
+def swipe_up(travel: float = 550.0, duration: float = 0.4) -> Performance:
+    """The right hand, up in front of the belly, sweeps `travel` mm straight up in front of the chest."""
+    low = (250.0, -50.0, -400.0)
+    right = (rest(Side.RIGHT).hold(0.3).then(0.6, low).hold(0.3).then(duration, (low[0], low[1] + travel, low[2]))
+             .hold(0.4).then(0.8, REST[Side.RIGHT]))
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 
 
 def windup_swipe() -> Performance:

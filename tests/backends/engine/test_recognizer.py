@@ -130,6 +130,15 @@ def test_arms_swinging_the_same_way_together_are_no_swipe():
     assert completed(perform(c.swipe(to_right=True, other_along=0.2))) == ["swipe_right"]
 
 
+def test_an_arm_thrown_up_as_the_body_moves_is_no_swipe_up():
+    """Kinder-Gator children kicking a ball throw an arm up as the body leans: the head moves 90-140 mm
+    relative to the torso. A swipe up is the arm's, the body steady."""
+    assert completed(perform(c.swipe_up())) == ["swipe_up"]
+    leaning = c.swipe_up()
+    leaning.lean = lambda t: 14.0 * min(1.0, max(0.0, (t - 1.2) / 0.4))  # the head 125 mm aside during the sweep
+    assert completed(perform(leaning)) == []
+
+
 def test_a_wave_is_made_with_the_body_upright():
     """Leaning to the side with hands on the hips, bowing or lunging, a hand sways sideways relative to
     the tilted torso (Kinder-Gator's null motions); real waves lean 12 degrees at most."""
