@@ -34,22 +34,26 @@ def describe(history: np.ndarray) -> np.ndarray:
     """The descriptor of the last posture of `history` (>= _HISTORY postures, (n, 6)): hand
     places, the hand-to-hand vector and velocities at 8 instants of the last WINDOW postures,
     plus per coordinate the spread and the mean speed over the window. Causal: only the past."""
-    h = np.asarray(history, float)[-_HISTORY:]
-    q = (h[2:] + h[1:-1] + h[:-2]) / 3  # a 3-posture moving average ending at each posture
-    parts = []
-    for lag in range(0, WINDOW, LAG_STEP):
-        now, back = q[-1 - lag], q[-3 - lag]
-        parts += [now, now[:3] - now[3:], 3.0 * (now - back)]
-    window = q[-WINDOW:]
-    parts += [window.std(axis=0), np.abs(np.diff(window, axis=0)).mean(axis=0) * 5.0]
-    return np.concatenate(parts)
+    return _descriptors(np.asarray(history, float)[-_HISTORY:], np.array([_HISTORY - 3]))[0]
 
 
 def describe_all(postures: np.ndarray) -> np.ndarray:
     """The descriptor at every posture of a sequence (n, 6) -> (n, D), history before it padded
     with its first posture (a repetition starts at rest); what `Describer` gives live."""
     padded = np.concatenate([np.repeat(postures[:1], _HISTORY - 1, axis=0), postures])
-    return np.array([describe(padded[i:i + _HISTORY]) for i in range(len(postures))])
+    return _descriptors(padded, np.arange(len(postures)) + _HISTORY - 3)
+
+
+def _descriptors(padded: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """Descriptors ending at smoothed postures `ends` of `padded` (index k: padded[k + 2])."""
+    q = (padded[2:] + padded[1:-1] + padded[:-2]) / 3  # a 3-posture moving average ending at each
+    parts = []
+    for lag in range(0, WINDOW, LAG_STEP):
+        now, back = q[ends - lag], q[ends - lag - 2]
+        parts += [now, now[:, :3] - now[:, 3:], 3.0 * (now - back)]
+    window = np.stack([q[ends - k] for k in range(WINDOW)], axis=1)
+    parts += [window.std(axis=1), np.abs(np.diff(window, axis=1)).mean(axis=1) * 5.0]
+    return np.concatenate(parts, axis=1)
 
 
 class Describer:

@@ -11,9 +11,10 @@ gives it a probability above AGREE: the templates say "close to a taught repetit
 classifier "more like this gesture than like the others loaded, or like rest". Templates alone
 cannot tell wind_it_up from goggles or shoot (the hands go up to the front in all three); a
 classifier alone fires on gestures it never saw (nothing tells it about a bow). Together, on
-MSRC-12, taught by p01-p03: recall 0.58 / false fires 0.09 leave-one-teacher-out (templates alone,
-at their best threshold: 0.48 / 0.09); the threshold factor (learner.py), AGREE and HOLD were chosen
-there as the highest recall with false fires <= 0.10. All templates of all gestures sit in one
+MSRC-12 taught by p01-p03 and scored leave-one-teacher-out: recall 0.58 with false fires 0.10
+(templates alone, at their best threshold: 0.48 with 0.09). The threshold factor (learner.py),
+AGREE and HOLD were chosen there, as the highest recall with false fires <= 0.10 (bench/learned.py
+gives the figures, on the teachers and on p04-p10). All templates of all gestures sit in one
 array, so a frame costs a handful of numpy operations whatever their number.
 
 A gesture is IN_PROGRESS (said once per attempt) when a path has come UNDER_WAY of the way to its
@@ -39,7 +40,7 @@ MOTION_SOFT = 1.0  # body units/s: motion slower than this counts less (directio
 SKIP_WEIGHT = 2.0  # a skip covers two template postures: it counts twice
 REST_SHARE = 0.8  # after completing, a gesture rests for this share of its typical length
 AGREE = 0.9  # the classifier's probability a gesture needs to complete
-HOLD = 2  # postures running that both must agree (a one-posture blip is no gesture)
+HOLD = 3  # postures running that both must agree (a one-posture blip is no gesture)
 UNDER_WAY = 0.5  # share of the way to `fires_at` a path must have come, below threshold, to be IN_PROGRESS
 
 
@@ -79,8 +80,9 @@ class Matcher:
     """Fed one posture at a time (RATE_HZ); says which learned gestures it completes."""
 
     def __init__(self, gestures: list[LearnedGesture], thresholds: list[float] | None = None,
-                 classify: bool = True) -> None:
-        """`classify=False`: templates alone (the learner's consistency check, which needs no veto)."""
+                 classify: bool = True, classifier: Classifier | None = None) -> None:
+        """`classify=False`: templates alone (the learner's consistency check, which needs no veto);
+        `classifier`: one already trained on these gestures (each user's matcher shares one)."""
         self.gestures = gestures
         self.thresholds = np.array(thresholds if thresholds is not None else [g.threshold for g in gestures], float)
         prefixes, owner, typical, taught = [], [], [], []
@@ -110,7 +112,7 @@ class Matcher:
         self.resting = np.zeros(len(gestures))  # ticks each gesture still rests
         self.announced = np.zeros(len(gestures), bool)  # IN_PROGRESS said for the current attempt
         self._rows = np.arange(m)
-        self.classifier = Classifier.train(taught) if classify and gestures else None
+        self.classifier = classifier or (Classifier.train(taught) if classify and gestures else None)
         self.describer = Describer()
         self.running = np.zeros(len(gestures))  # postures templates and classifier have agreed
 
