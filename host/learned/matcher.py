@@ -5,9 +5,10 @@ Each repetition is a template; the live stream may match it starting at any inst
 DTW). Every posture the stream advances, a template advances by 0, 1 or 2 of its own postures, so
 a performance may be up to twice as fast as the teaching, and at most twice as slow (the band:
 a path may not hold more than its own length in stays). A path's score is the mean weighted
-distance between the live postures and the template's along it. A gesture completes when, for HOLD postures running, its best template has been matched up to
-its `fires_at` point with a score below the gesture's threshold AND the classifier (classifier.py)
-gives it a probability above AGREE: the templates say "close to a taught repetition", the
+distance between the live postures and the template's along it. A gesture completes when, for
+HOLD postures running, its best template has been matched up to its `fires_at` point with a
+score below the gesture's threshold AND the classifier (classifier.py) gives it a probability
+above AGREE: the templates say "close to a taught repetition", the
 classifier "more like this gesture than like the others loaded, or like rest". Templates alone
 cannot tell wind_it_up from goggles or shoot (the hands go up to the front in all three); a
 classifier alone fires on gestures it never saw (nothing tells it about a bow). Together, on
