@@ -184,6 +184,8 @@ class Matcher:
         for gi in np.flatnonzero((self.running >= HOLD) & (self.resting <= 0)):
             self.resting[gi] = self.rest_ticks[gi]
             self.running[gi] = 0
+            if not self.announced[gi]:  # came under way while resting: say so, then complete
+                out.append(Match(int(gi), float(ratio[gi]), False))
             self.announced[gi] = False
             out.append(Match(int(gi), float(ratio[gi]), True))
         return out
