@@ -12,6 +12,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
+from host.learned.classifier import Classifier
 from host.learned.features import PostureStream
 from host.learned.gesture_file import LearnedGesture, load
 from host.learned.matcher import Matcher
@@ -23,10 +24,11 @@ class LearnedRecognizer:
     """`update(t, hands, body) -> list[Gesture]` per frame, like a backend's recogniser."""
 
     def __init__(self, gestures: list[LearnedGesture], mirrored: bool = True,
-                 thresholds: Mapping[str, float] | None = None) -> None:
+                 thresholds: Mapping[str, float] | None = None, classifier: Classifier | None = None) -> None:
         overrides = thresholds or {}
         self.gestures = gestures
-        self.matcher = Matcher(gestures, [overrides.get(g.name, g.threshold) for g in gestures])
+        self.matcher = Matcher(gestures, [overrides.get(g.name, g.threshold) for g in gestures],
+                               classifier=classifier)
         self.stream = PostureStream(mirrored)
         self._hands: tuple[Hand, ...] = ()
 

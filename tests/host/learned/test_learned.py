@@ -4,6 +4,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from host.cli import main as issv
@@ -14,7 +15,7 @@ from host.learned.examples import parse_example, read_take
 from host.learned.learner import learn
 from host.learned.recognizer import LearnedRecognizer
 from host.learned.segment import find_repetitions
-from tests.host.learned.performer import Performer, circle, punch, still
+from tests.host.learned.performer import REST, Performer, circle, punch, still
 
 
 @pytest.fixture(scope="module")
@@ -73,6 +74,30 @@ def test_another_performer_is_recognised_and_only_as_the_right_gesture(taught, t
         starts = [t for t, _, s in every if s == "in_progress"]
         length = 1.6 / performer.speed  # the performer's motion (performer.py)
         assert all(0.1 < done - start < length for start, (done, _) in zip(starts, events))  # under way first
+
+
+def lift(u: float) -> np.ndarray:
+    """Both hands raised to the front of the chest and lowered: the circle without its rolling."""
+    return REST + np.sin(np.pi * u) ** 0.5 * (np.array([[-0.05, 0.1, -0.6], [0.05, 0.1, -0.6]]) - REST)
+
+
+def test_of_two_gestures_that_look_alike_only_the_one_performed_completes(tmp_path):
+    """With thresholds so loose that the templates take anything (both gestures raise the hands
+    to the same place), the classifier trained on the loaded gestures still says which it is."""
+    gestures = []
+    for name, motion in (("circle", circle), ("lift", lift)):
+        takes = []
+        for seed, size in ((1, 520.0), (2, 480.0)):
+            Performer(size_mm=size, seed=seed).write(tmp_path / f"{name}_{seed}.csv", motion, 4)
+            takes.append(read_take(str(tmp_path / f"{name}_{seed}.csv"), True))
+        gestures.append(learn(name, takes))
+    for name, motion in (("circle", circle), ("lift", lift)):
+        csv = tmp_path / f"performed_{name}.csv"
+        Performer(size_mm=600.0, seed=7).write(csv, motion, 3)
+        recognizer = LearnedRecognizer(gestures, True, {"circle": 100.0, "lift": 100.0})
+        events = [e.name for frame in read_trajectories(csv)
+                  for e in recognizer.update(frame.t, frame.hands, frame.body) if e.state.value == "complete"]
+        assert events == [name] * 3, events
 
 
 def test_walking_or_standing_triggers_nothing(taught, tmp_path):

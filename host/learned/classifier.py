@@ -1,0 +1,122 @@
+"""Which of the loaded learned gestures the last moment looks like: a small classifier that vetoes
+the template matcher's confusions.
+
+The template matcher (matcher.py) asks "is this close to a taught repetition?" one gesture at a
+time; it cannot tell that a performance is closer to another learned gesture, and its distances
+overlap between gestures that share a posture (hands raised to the front for wind_it_up, goggles
+and shoot). The classifier answers the other question, "which of these gestures, or none?", from
+the shape of the last WINDOW postures (where the hands were, where they are relative to each
+other, how they moved). It is trained when the gestures are loaded, from the repetitions stored in
+their files: the last (1 - EARLY) of each repetition is that gesture, its beginning and the rest
+pose before it are "none", and every other loaded gesture's repetitions are negatives. Nothing is
+stored: files stay as `issv learn` wrote them, and a set of gestures loaded together is told
+apart by what it contains.
+
+Softmax regression (multinomial logistic regression) on standardised descriptors, fitted with a
+few hundred Adam steps in numpy (bench/learned.py prints how long six gestures take).
+"""
+from __future__ import annotations
+
+from collections import deque
+
+import numpy as np
+
+WINDOW = 24  # postures looked back (1.6 s at 15 Hz)
+LAG_STEP = 3  # one sample of the window every LAG_STEP postures
+_HISTORY = WINDOW + 4  # the window, the velocity's two steps back and the smoothing's two
+EARLY = 0.5  # the first half of a repetition (and the rest before it) is "none"
+L2 = 10.0  # ridge penalty (summed over samples): chosen leave-one-teacher-out on MSRC-12 p01-p03
+STEPS, RATE = 300, 0.05  # Adam steps and learning rate
+EVERY = 2  # train on every EVERY-th posture: neighbours look alike, and it halves the time
+
+
+def describe(history: np.ndarray) -> np.ndarray:
+    """The descriptor of the last posture of `history` (>= _HISTORY postures, (n, 6)): hand
+    places, the hand-to-hand vector and velocities at 8 instants of the last WINDOW postures,
+    plus per coordinate the spread and the mean speed over the window. Causal: only the past."""
+    return _descriptors(np.asarray(history, float)[-_HISTORY:], np.array([_HISTORY - 3]))[0]
+
+
+def describe_all(postures: np.ndarray) -> np.ndarray:
+    """The descriptor at every posture of a sequence (n, 6) -> (n, D), history before it padded
+    with its first posture (a repetition starts at rest); what `Describer` gives live."""
+    padded = np.concatenate([np.repeat(postures[:1], _HISTORY - 1, axis=0), postures])
+    return _descriptors(padded, np.arange(len(postures)) + _HISTORY - 3)
+
+
+def _descriptors(padded: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """Descriptors ending at smoothed postures `ends` of `padded` (index k: padded[k + 2])."""
+    q = (padded[2:] + padded[1:-1] + padded[:-2]) / 3  # a 3-posture moving average ending at each
+    parts = []
+    for lag in range(0, WINDOW, LAG_STEP):
+        now, back = q[ends - lag], q[ends - lag - 2]
+        parts += [now, now[:, :3] - now[:, 3:], 3.0 * (now - back)]
+    window = np.stack([q[ends - k] for k in range(WINDOW)], axis=1)
+    parts += [window.std(axis=1), np.abs(np.diff(window, axis=1)).mean(axis=1) * 5.0]
+    return np.concatenate(parts, axis=1)
+
+
+class Describer:
+    """The live side of `describe_all`: fed one posture at a time."""
+
+    def __init__(self) -> None:
+        self._history: deque[np.ndarray] = deque(maxlen=_HISTORY)
+
+    def reset(self) -> None:
+        self._history.clear()
+
+    def push(self, posture: np.ndarray) -> np.ndarray:
+        if not self._history:
+            self._history.extend([posture] * (_HISTORY - 1))
+        self._history.append(posture)
+        return describe(np.array(self._history))
+
+
+class Classifier:
+    """Probabilities of each of `n` gestures and of "none" (the last column) for a descriptor."""
+
+    def __init__(self, mean: np.ndarray, scale: np.ndarray, weights: np.ndarray, bias: np.ndarray) -> None:
+        self.mean, self.scale, self.weights, self.bias = mean, scale, weights, bias
+
+    def probabilities(self, descriptor: np.ndarray) -> np.ndarray:
+        s = ((descriptor - self.mean) / self.scale) @ self.weights + self.bias
+        e = np.exp(s - s.max(axis=-1, keepdims=True))
+        return e / e.sum(axis=-1, keepdims=True)
+
+    @classmethod
+    def train(cls, repetitions: list[list[np.ndarray]]) -> "Classifier":
+        """repetitions[g]: gesture g's repetitions (postures (n, 6) at RATE_HZ)."""
+        none = len(repetitions)
+        xs, ys = [], []
+        for g, reps in enumerate(repetitions):
+            for postures in reps:
+                label = np.full(len(postures), none)
+                label[int(EARLY * len(postures)):] = g
+                still = np.repeat(postures[:1], WINDOW, axis=0)
+                xs += [describe_all(postures)[::EVERY], describe_all(still)[::EVERY]]
+                ys += [label[::EVERY], np.full(WINDOW, none)[::EVERY]]
+        x, y = np.concatenate(xs), np.concatenate(ys)
+        mean, scale = x.mean(axis=0), x.std(axis=0) + 1e-6
+        weights, bias = _fit((x - mean) / scale, y, none + 1)
+        return cls(mean, scale, weights, bias)
+
+
+def _fit(z: np.ndarray, y: np.ndarray, classes: int) -> tuple[np.ndarray, np.ndarray]:
+    """Class-balanced softmax regression with an L2 penalty, by Adam on the whole batch."""
+    n, d = z.shape
+    target = np.eye(classes)[y]
+    counts = np.bincount(y, minlength=classes).astype(float)
+    weight = (n / (classes * np.maximum(counts, 1)))[y][:, None] / n  # each class counts alike
+    params = np.zeros((d + 1, classes), np.float32)
+    zb = np.hstack([z, np.ones((n, 1))]).astype(np.float32)
+    target, weight = target.astype(np.float32), weight.astype(np.float32)
+    m, v = np.zeros_like(params), np.zeros_like(params)
+    for step in range(1, STEPS + 1):
+        s = zb @ params
+        e = np.exp(s - s.max(axis=1, keepdims=True))
+        grad = zb.T @ ((e / e.sum(axis=1, keepdims=True) - target) * weight)
+        grad[:-1] += 2 * L2 * params[:-1] / n
+        m = 0.9 * m + 0.1 * grad
+        v = 0.999 * v + 0.001 * grad ** 2
+        params -= RATE * (m / (1 - 0.9 ** step)) / (np.sqrt(v / (1 - 0.999 ** step)) + 1e-8)
+    return params[:-1].astype(float), params[-1].astype(float)
