@@ -434,6 +434,10 @@ class _Hand:
                 and stroke.end.seen_since == stroke.start.seen_since,  # not lost on the way
                 self.r.oscillation_max_gap_s)
         if self.tr.settled.get(stroke.axis) is stroke.start:  # completed while under way
+            # completing early does not shorten its refractory period (the hand's return is no gesture):
+            # it runs as if the swipe had been confirmed `swipe_confirm_s` after its stroke, as any other
+            self.tr.refractory_until = max(self.tr.refractory_until,
+                                           stroke.end.t + self.r.swipe_confirm_s + self.r.refractory_s)
             if stroke.axis == X:
                 self.wave(stroke, reversed_)
             return

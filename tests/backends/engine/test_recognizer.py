@@ -71,6 +71,12 @@ def test_a_push_out_to_the_side_from_rest_completes_before_the_hand_stops(noise_
     assert announced.name == "swipe_right" and announced.timestamp < done.timestamp < PUSHED_OUT
 
 
+@pytest.mark.parametrize("back_after", [0.0, 0.1])
+def test_a_push_out_with_the_hand_brought_straight_back_is_one_swipe(back_after):
+    """The return, as long and faster, neither cancels the swipe (it was no wind-up) nor is one."""
+    assert completed(perform(c.push_out(back_after=back_after))) == ["swipe_right"]
+
+
 def test_a_swipe_that_may_be_a_wind_up_waits_for_what_follows_but_is_announced_under_way():
     """Across the body, after a swing the other way, or with the other hand moving too, a swipe
     completes only `swipe_confirm_s` after its stroke; its IN_PROGRESS comes while it is under way."""
