@@ -66,7 +66,8 @@ class GestureRules(BaseModel):
         "of a drop may be going back there")
     swipe_confirm_s: float = Field(
         0.12, ge=0, description="after a stroke ends, how long to watch whether a comparable stroke the other "
-        "way follows (then the first was a wind-up, or both belong to a wave); this is the swipe's latency")
+        "way follows (then the first was a wind-up, or both belong to a wave); this is the latency of a swipe "
+        "that may be a wind-up (see `swipe_sure_reach_mm`)")
     swipe_rest_s: float = Field(
         0.3, ge=0, description="a sideways swipe started from rest when its hand, seen throughout, moved less "
         "than `swipe_rest_mm` along the swipe's axis over this long before it (a wind-up or a wave's swing "
