@@ -17,6 +17,11 @@ against 11.96 predicted and 12.5 for payload alone).
 
     python -m bench.network [--json] [--seconds S] [--only zmq|ros]
     python -m bench.network publish|subscribe ...   (the two roles; tests use them too)
+    python -m bench.network labels [--json]         (the user label image's cost alone)
+
+Also measured: the user label image that rides in each depth message (its `labels` table: bytes
+and encode/decode ms at 640x480 on the synthetic duet, zstd as sent against run-length, and what
+it adds to a whole depth message).
 """
 from __future__ import annotations
 
@@ -200,6 +205,7 @@ def subscribe_main(args: argparse.Namespace) -> int:
     backend = NetworkBackend(None, options)
     frames = gestures = 0
     dumped: list[DepthFrame] = []
+    labels: list[np.ndarray | None] = []  # the user labels that came with each dumped depth image
     deadline = time.monotonic() + args.timeout
     with backend:
         print("subscribed", file=sys.stderr, flush=True)
@@ -211,11 +217,16 @@ def subscribe_main(args: argparse.Namespace) -> int:
             gestures += len(frame.gestures)
             if args.dump and frame.depth is not None and (not dumped or dumped[-1] is not frame.depth):
                 dumped.append(frame.depth)
+                labels.append(frame.user_labels)
         stats = backend.stats()
     if args.dump:
+        shape = dumped[0].data.shape if dumped else (0, 0)
         np.savez(args.dump, frame_ids=np.array([d.frame_id for d in dumped], dtype=np.int64),
-                 depth=np.array([d.data for d in dumped], dtype=np.uint16).reshape(-1, *dumped[0].data.shape)
-                 if dumped else np.zeros((0, 0, 0), np.uint16))
+                 timestamps=np.array([d.timestamp for d in dumped], dtype=np.float64),
+                 depth=np.array([d.data for d in dumped], dtype=np.uint16).reshape(-1, *shape),
+                 has_labels=np.array([x is not None for x in labels], dtype=bool),
+                 labels=np.array([np.zeros(shape, np.uint8) if x is None else x for x in labels],
+                                 dtype=np.uint8).reshape(-1, *shape))
     print(json.dumps({"frames": frames, "gestures": gestures, **stats}), flush=True)
     return 0
 
@@ -326,6 +337,75 @@ def codecs_table(clips_dir: Path | None) -> list[dict]:
     return rows
 
 
+def duet_labels(n: int = 24, step: int = 15) -> list[tuple[DepthFrame, np.ndarray]]:
+    """Depth and user labels of the synthetic duet at 640x480, every `step`th frame (crossings included)."""
+    from backends.truth import TruthBackend
+    from sources.synthetic import SyntheticOptions, SyntheticSource
+    out = []
+    with TruthBackend(SyntheticSource(SyntheticOptions(scene="duet", seed=1))) as backend:
+        for i in range(n * step):
+            frame = backend.update()
+            if i % step == 0:
+                out.append((frame.depth, frame.user_labels))
+    return out
+
+
+def _runs(labels: np.ndarray) -> bytes:
+    """Run-length labels (the alternative measured): u32 run starts where the value changes, values."""
+    flat = labels.ravel()
+    starts = np.flatnonzero(np.diff(flat, prepend=np.int16(-1)))
+    return np.uint32(len(starts)).tobytes() + starts.astype("<u4").tobytes() + flat[starts].tobytes()
+
+
+def _unruns(blob: bytes, shape: tuple[int, int]) -> np.ndarray:
+    n = int(np.frombuffer(blob, "<u4", 1)[0])
+    starts = np.frombuffer(blob, "<u4", n, 4)
+    values = np.frombuffer(blob, np.uint8, n, 4 + 4 * n)
+    return np.repeat(values, np.diff(np.append(starts, shape[0] * shape[1]))).reshape(shape)
+
+
+def labels_table() -> list[dict]:
+    """The user label image's cost on the wire at 640x480: its block (zstd, as sent and recorded)
+    against run-length, and what it adds to a whole depth message (encode + decode)."""
+    from backends.network import wire
+    pairs = duet_labels()
+    ways = {"zstd-1 (wire, recording)": (wire.encode_labels,
+                                         lambda b, shape: wire._decode_labels(memoryview(b), 0, shape)[0]),
+            "run-length (numpy)": (_runs, _unruns)}
+    rows = []
+    for name, (encode, decode) in ways.items():
+        enc, dec, sizes = [], [], []
+        for _, labels in pairs:
+            t0 = time.perf_counter()
+            blob = encode(labels)
+            t1 = time.perf_counter()
+            back = decode(blob, labels.shape)
+            dec.append(time.perf_counter() - t1)
+            enc.append(t1 - t0)
+            sizes.append(len(blob))
+            assert np.array_equal(back, labels), name
+        rows.append({"what": name, "bytes_p50": int(np.median(sizes)), "bytes_max": max(sizes),
+                     "ratio": round(pairs[0][1].nbytes / float(np.median(sizes)), 1),
+                     "encode_ms": round(float(np.median(enc)) * 1000, 3),
+                     "decode_ms": round(float(np.median(dec)) * 1000, 3)})
+    for codec in ("banded-zstd", "raw"):  # a whole depth message, with and without its labels
+        for with_labels in (False, True):
+            enc, dec, sizes = [], [], []
+            for depth, labels in pairs:
+                t0 = time.perf_counter()
+                msg = wire.encode_depth(1, 1, 0.0, 1, depth, codec, labels=labels if with_labels else None)
+                t1 = time.perf_counter()
+                wire.decode(msg)
+                dec.append(time.perf_counter() - t1)
+                enc.append(t1 - t0)
+                sizes.append(len(msg))
+            rows.append({"what": f"depth message {codec}{' + labels' if with_labels else ''}",
+                         "bytes_p50": int(np.median(sizes)), "bytes_max": max(sizes), "ratio": None,
+                         "encode_ms": round(float(np.median(enc)) * 1000, 3),
+                         "decode_ms": round(float(np.median(dec)) * 1000, 3)})
+    return rows
+
+
 def utd_clips(args: argparse.Namespace, quiet: bool = False) -> Path | None:
     """The UTD-MHAD clips in --data (a real performer in the kinect-like images, the real codec rows)."""
     if quiet and (args.data is None or not (args.data / "utd-mhad-dev").is_dir()):
@@ -350,7 +430,8 @@ def table_main(args: argparse.Namespace) -> int:
     clips = utd_clips(args)
     rows = [run_case(t, shaped, args.seconds, args.data) for t in transports for shaped in links]
     codecs = codecs_table(clips)
-    figures = {"cases": rows, "codecs": codecs, "notes": notes, "seconds": args.seconds,
+    labels = labels_table()
+    figures = {"cases": rows, "codecs": codecs, "labels": labels, "load_average": os.getloadavg()[0], "notes": notes, "seconds": args.seconds,
                "thesis_table16": {"100 Mbps": {"depth": 35, "gesture": 0, "hands": 0},
                                   "1 Gbps": {"depth": 0, "gesture": 0, "hands": 0}}}
     columns = ["", "link", "loss %", "depth ms", "gest ms", "hand ms", "kB", "x carry", "load"]
@@ -373,6 +454,8 @@ def table_main(args: argparse.Namespace) -> int:
            columns, args.json)
     if not args.json:
         report("lossless depth codecs", {}, [list(r.values()) for r in codecs], list(codecs[0]), False)
+        report(f"user labels, synthetic duet 640x480 (raw {640 * 480} bytes; load {os.getloadavg()[0]:.1f})", {},
+               [["-" if v is None else v for v in r.values()] for r in labels], list(labels[0]), False)
         for note in notes:
             print(note)
     return 0
@@ -392,8 +475,10 @@ def main(argv: list[str] | None = None) -> int:
     s.add_argument("--connect", required=True)
     s.add_argument("--transport", choices=("zmq", "ros"), default="zmq")
     s.add_argument("--ros-depth", choices=("frame", "image"), default="frame")
+    sub.add_parser("labels", help="only the user labels table (seconds, not minutes)")
     s.add_argument("--timeout", type=float, default=60.0)
-    s.add_argument("--dump", metavar="FILE.npz", help="save the depth images received (frame_ids, depth)")
+    s.add_argument("--dump", metavar="FILE.npz",
+                   help="save the depth images received (frame_ids, timestamps, depth, has_labels, labels)")
     parser.add_argument("--json", action="store_true", help="print one JSON object of the figures")
     add_data_argument(parser)
     parser.add_argument("--seconds", type=float, default=20.0,
@@ -404,6 +489,12 @@ def main(argv: list[str] | None = None) -> int:
         return publish_main(args)
     if args.role == "subscribe":
         return subscribe_main(args)
+    if args.role == "labels":
+        rows = labels_table()
+        report(f"user labels, synthetic duet 640x480 (raw {640 * 480} bytes; load {os.getloadavg()[0]:.1f})",
+               {"labels": rows, "load_average": os.getloadavg()[0]},
+               [["-" if v is None else v for v in r.values()] for r in rows], list(rows[0]), args.json)
+        return 0
     return table_main(args)
 
 

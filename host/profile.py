@@ -149,9 +149,10 @@ def _resolve(file: str, registry: Registry, kind: str, ref: PluginRef, where: tu
     reason = entry.availability()
     if reason is not None:
         line = f"{file}: {label}: {kind[:-1]} {ref.name!r} is not available here: {reason}"
-        (warnings if kind == "effects" else problems).append(line)
         if kind == "effects":
+            warnings.append(line + "; that effect is skipped")
             return None
+        problems.append(line)
     try:
         options = entry.cls.Options.model_validate(ref.options, context=context)
     except ValidationError as error:

@@ -159,7 +159,7 @@ class Reloader:
             self._adopt(group)
         profile = load(self.profile.path, self.registry)
         for warning in profile.warnings:
-            self.say(f"issv: {warning}; that effect is skipped")
+            self.say(f"issv: {warning}")
         old = self.profile.model
         if (profile.model.backend, profile.model.source) != (old.backend, old.source):
             self.say("issv: the backend and source are chosen at start: that change waits for the next start")

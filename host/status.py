@@ -53,7 +53,10 @@ def summary(m: Metrics) -> None:
     d = m.to_json()
     table = Table(title=f"issv show summary: backend {d['backend']}", show_header=False)
     table.add_row("frames (sensor)", str(d["frames"]))
-    table.add_row("source rate", f"{d['source_fps']:.2f} Hz")
+    if m.input_label:
+        table.add_row("input", m.input_label)
+    if d["source_fps"]:  # a backend without a source (osc-in) has no source rate: its input says its own
+        table.add_row("source rate", f"{d['source_fps']:.2f} Hz")
     table.add_row("sFPS / rFPS / effective", f"{d['sfps']:.2f} / {d['rfps']:.2f} / {d['effective_fps']:.2f}")
     lat = d["latency_ms"]
     table.add_row("capture -> effect latency", f"p50 {lat['p50']:.2f} ms  p95 {lat['p95']:.2f} ms  p99 {lat['p99']:.2f} ms")

@@ -64,6 +64,21 @@ class RealSenseOptions(BaseModel):
     realtime: bool = Field(True, description="recording: at its recorded pace (false: as fast as the show reads)")
 
 
+def recording_seconds(rs, path: Path) -> float | None:
+    """The recording's length, read without starting a pipeline (librealsense can abort when a
+    pipeline is stopped right after it starts); None when librealsense cannot read the file (the
+    pipeline then says why)."""
+    context = rs.context()
+    try:
+        device = context.load_device(str(path))
+    except RuntimeError:
+        return None
+    try:
+        return device.get_duration().total_seconds()
+    finally:
+        context.unload_device(str(path))
+
+
 def _info(rs, device, what) -> str:
     return device.get_info(what) if device.supports(what) else ""
 
@@ -117,6 +132,9 @@ class RealSenseSource(LiveCamera):
             path = Path(o.path)
             if not path.is_file():
                 raise UserError(f"{path}: no such RealSense recording (.bag)")
+            length = recording_seconds(rs, path)
+            if length is not None and o.seek > length:  # said before a pipeline starts and stops at once
+                raise UserError(f"{path}: seek = {o.seek:g} s is past the recording's end ({length:.2f} s)")
             config.enable_device_from_file(str(path), repeat_playback=o.loop)
         elif o.serial:
             config.enable_device(o.serial)  # needs a camera plugged in
@@ -133,10 +151,6 @@ class RealSenseSource(LiveCamera):
         self._playback = device.as_playback() if o.path is not None else None
         if self._playback is not None:
             self._playback.set_real_time(o.realtime)
-            length = self._playback.get_duration().total_seconds()
-            if o.seek > length:
-                self.disconnect()
-                raise UserError(f"{o.path}: seek = {o.seek:g} s is past the recording's end ({length:.2f} s)")
             if o.seek:
                 self._seek(o.seek)
         stream = profile.get_stream(rs.stream.depth).as_video_stream_profile()

@@ -3,7 +3,8 @@
 On a coarse grid (about 160 columns whatever the sensor's resolution) the depth becomes world
 millimetres; a floor plane found by RANSAC among near-horizontal planes is removed; depth jumps
 cut the image into surfaces; every person-sized surface (judged in mm and m^2, not pixels) between
-`min_distance_mm` and `max_distance_mm` (0.5 to 4.5 m) is a person (up to `max_people`, nearest first), and each
+`min_distance_mm` and `max_distance_mm` (0.5 to 4.5 m) is a person (up to `max_people`, nearest first;
+someone so close that the picture's bottom cuts them off when a head sits on shoulders), and each
 small surface within arm's reach in front of a person (a forearm pointed at the camera is cut off
 from the body by its own depth edge) joins the nearest such person. Clips whose background is
 already removed are simply the easy case: no floor is found and the user is the only surface.
@@ -21,6 +22,13 @@ from host import DepthFrame
 
 ONE_CELL_GAP = cv2.getStructuringElement(cv2.MORPH_CROSS, (3, 3))  # closing with it bridges a missing cell
 RING = np.ones((5, 5), np.uint8)  # two cells around a surface: past the cut band at its edge
+# Someone cut off by the picture's bottom (segmentation.Segmenter._head_and_shoulders), in mm:
+HEAD_MM = 150  # the top this deep is the head (crown to chin: 5-year-old ~190, adult ~230)
+SHOULDERS_MM = 400  # the shoulders are within this of the crown (0.18 x height: 190 child, 340 tall adult)
+SHOULDERS_TO_HEAD = 1.5  # shoulders are at least this many heads wide (a 5-year-old 1.8, an adult 2.6)
+ABOVE_CROWN_MM = 300  # looked at straight above the crown ...
+BEHIND_MM = 150  # ... for a surface less than this behind it (an own head cut off is ~100 mm behind the chest)
+MAX_COVERED = 0.25  # share of the crown's columns with such a surface above: more, and it is no crown
 
 
 class SegmentationOptions(BaseModel):
@@ -38,6 +46,13 @@ class SegmentationOptions(BaseModel):
     floor_min_span_mm: float = Field(1000, gt=0, description="a floor is at least this wide (a seated lap is not)")
     min_user_area_m2: float = Field(0.08, gt=0, description="frontal area of the smallest user (a head and shoulders)")
     min_user_height_mm: float = Field(450, gt=0)
+    min_cut_user_height_mm: float = Field(250, gt=0, description=(
+        "a surface going on below the picture (someone close to the camera) spans at least this in "
+        "height, cell to cell, not the box at its mean depth: a 5-year-old's crown to shoulders"))
+    max_head_width_mm: float = Field(200, gt=0, description=(
+        "its top 150 mm (the head) is no wider than a head (at most 165 mm, with hair); a table top or a chair back is wider"))
+    min_shoulder_width_mm: float = Field(250, gt=0, description=(
+        "150-400 mm below its top it is this wide (a 5-year-old's shoulders) and 1.5 times its head"))
     max_user_width_mm: float = Field(2300, gt=0, description="arms spread; a wall is wider")
     max_user_depth_spread_mm: float = Field(600, gt=0, description="std of depth over the user; a side wall is deeper")
     reach_mm: float = Field(1000, gt=0, description="a detached surface this close in front of the user is part of them")
@@ -234,6 +249,41 @@ class Segmenter:
         nearer = ring & sized[window] & (z < depth - self.options.edge_mm - self.options.edge_ratio * depth)
         return float(nearer.sum()) / max(1, int(ring.sum()))
 
+    def _head_and_shoulders(self, g: Grid, labels: np.ndarray, box: np.ndarray, k: int) -> bool:
+        """Whether surface `k`, cut off by the picture's bottom, is someone close to the camera:
+        they show at least a head on shoulders, whatever their size or distance.
+
+        Heights are the cells' own (camera y), so a floor or a table top seen at a slant, tall in
+        the picture but not in the room, is no one. Widths are the cells' summed widths in a row
+        (a gap, between a head and a hand beside it, is not counted). The top must be a crown:
+        straight above it there is only the room behind the person, or nothing; a surface there (an
+        arm held across the chest, or the person's own head cut off by missing readings) means
+        this is a piece of a body, not its top.
+        """
+        o = self.options
+        x, y, w, h = (int(v) for v in box[:4])
+        box_ = np.s_[y:y + h, x:x + w]
+        mask = labels[box_] == k
+        ys, zs = g.y[box_], g.z[box_]
+        heights = ys[mask]
+        crown = float(heights.max())
+        if crown - float(heights.min()) < o.min_cut_user_height_mm:
+            return False
+        top = mask & (ys >= crown - HEAD_MM)
+        chest = mask & (ys < crown - HEAD_MM) & (ys >= crown - SHOULDERS_MM)
+        head = float((zs * top).sum(axis=1).max()) * g.cell_x
+        shoulders = float((zs * chest).sum(axis=1).max()) * g.cell_x
+        if head > o.max_head_width_mm or shoulders < max(o.min_shoulder_width_mm, SHOULDERS_TO_HEAD * head):
+            return False
+        columns = np.flatnonzero(top.any(axis=0))
+        first = y + np.argmax(top[:, columns], axis=0)  # the crown's row in each of its columns
+        depth = float(zs[top].mean())
+        cols = np.s_[:y + h, x + columns]
+        z = g.z[cols] * (labels[cols] > 0)  # surfaces only (a cut band is no cover)
+        over = ((np.arange(y + h)[:, None] < first) & (g.y[cols] < crown + ABOVE_CROWN_MM)
+                & (z > 0) & (z < depth + BEHIND_MM))
+        return float(over.any(axis=0).mean()) <= MAX_COVERED
+
     def _pick_people(self, g: Grid, labels: np.ndarray, stats: np.ndarray,
                      stay: bool) -> list[tuple[np.ndarray, np.ndarray]]:
         """(mask, centre of the main surface) per person, nearest first."""
@@ -250,10 +300,15 @@ class Segmenter:
         spread = np.sqrt(np.maximum(zz - mean[2] ** 2, 0))
         ext_w = stats[:, cv2.CC_STAT_WIDTH] * g.cell_x * mean[2]  # bounding box in mm at the mean depth
         ext_h = stats[:, cv2.CC_STAT_HEIGHT] * g.cell_y * mean[2]
-        person = ((area >= o.min_user_area_m2 * 1e6) & (ext_h >= o.min_user_height_mm)
+        person = ((area >= o.min_user_area_m2 * 1e6)
                   & (ext_w <= o.max_user_width_mm) & (spread <= o.max_user_depth_spread_mm)
                   & (mean[2] >= o.min_distance_mm) & (mean[2] <= o.max_distance_mm))
         person[0] = False
+        tall = ext_h >= o.min_user_height_mm
+        top, bottom = stats[:, cv2.CC_STAT_TOP], stats[:, cv2.CC_STAT_TOP] + stats[:, cv2.CC_STAT_HEIGHT]
+        for k in np.flatnonzero(person & ~tall & (bottom >= labels.shape[0]) & (top > 0)):
+            tall[k] = self._head_and_shoulders(g, labels, stats[k], k)
+        person &= tall
         if not person.any():
             return []
         sized = person.copy()

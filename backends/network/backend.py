@@ -4,15 +4,18 @@ A frame is rebuilt from the publisher's hands message (one per publisher frame, 
 the gesture events that came before it on the same ordered channel; its depth is the newest image
 received. A frame waits at most `depth_wait_ms` for its own depth image, and never once the next
 frame's hands are in: depth is newest-wins, hands and gestures are never held back for long.
+The user label image travels with its depth image (in the same ZeroMQ message; on ROS a topic of
+its own, matched by capture time) and becomes the frame's `user_labels`.
 """
 from __future__ import annotations
 
 import sys
 import threading
 import time
-from collections import deque
+from collections import OrderedDict, deque
 from typing import Literal
 
+import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
 
 from backends.network import wire
@@ -21,6 +24,7 @@ from host import Backend, DepthFrame, Frame, Gesture, PluginUnavailable
 from host.errors import UserError
 
 POLL_MS = 100
+LOOSE_LABELS = 8  # ROS label images kept while their depth image has not come (or was skipped)
 
 
 class NetworkOptions(BaseModel):
@@ -77,6 +81,9 @@ class NetworkBackend(Backend):
         self._depth: DepthFrame | None = None
         self._depth_seq = -1
         self._depth_session: int | None = None
+        self._labels: np.ndarray | None = None  # the user labels of self._depth
+        self._loose: OrderedDict[tuple[int, float], np.ndarray] = OrderedDict()
+        self._labels_session: int | None = None  # a session whose labels travel apart (ROS): wait for them
         self._seq = 0
         self._backend = ""
         self._stopping = threading.Event()
@@ -99,10 +106,23 @@ class NetworkBackend(Backend):
             if msg.frame_seq > self._depth_seq or msg.header.session != self._depth_session:
                 self._depth, self._depth_seq = msg.depth, msg.frame_seq
                 self._depth_session = msg.header.session
+                key = (msg.header.session, msg.header.capture_time)
+                self._labels = msg.labels if msg.labels is not None else self._loose.pop(key, None)
+        elif isinstance(msg, wire.LabelsMsg):
+            self._labels_session = msg.header.session
+            if (msg.header.session, msg.header.capture_time) == self._depth_key():
+                self._labels = msg.labels
+            else:
+                self._loose[(msg.header.session, msg.header.capture_time)] = msg.labels
+                while len(self._loose) > LOOSE_LABELS:
+                    self._loose.popitem(last=False)
         elif isinstance(msg, wire.GestureMsg):
             self._gestures.append(msg.gesture)
         elif isinstance(msg, wire.HandsMsg):
             self._hands.append((time.monotonic(), msg))
+
+    def _depth_key(self) -> tuple[int, float] | None:
+        return None if self._depth is None else (self._depth_session, self._depth.capture_time)
 
     def _wait_ms(self) -> float:
         if not self._hands:
@@ -116,7 +136,8 @@ class NetworkBackend(Backend):
             return None
         arrival, head = self._hands[0]
         has_depth = (not head.depth or not self.options.depth
-                     or (self._depth_seq >= head.frame_seq and self._depth_session == head.header.session))
+                     or (self._depth_seq >= head.frame_seq and self._depth_session == head.header.session
+                         and (self._labels is not None or self._labels_session != head.header.session)))
         waited = time.monotonic() - arrival >= self.options.depth_wait_ms / 1000
         if not (has_depth or waited or len(self._hands) > 1):
             return None
@@ -131,8 +152,10 @@ class NetworkBackend(Backend):
     def _frame(self, capture_time: float, hands, users=()) -> Frame:
         gestures, self._gestures = tuple(self._gestures), []
         self._seq += 1
+        labels = self._labels
         return Frame(self._seq, capture_time, self._depth, tuple(hands) if self.tracking_hands else (),
-                     gestures if self.detecting_gestures else (), self._backend, users=tuple(users))
+                     gestures if self.detecting_gestures else (), self._backend, users=tuple(users),
+                     make_user_labels=None if labels is None else lambda: labels)
 
     def _flush(self) -> Frame | None:
         """The publisher ended: deliver what is still waiting, then end the stream."""

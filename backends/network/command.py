@@ -41,6 +41,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--transport", choices=("zmq", "ros"), default="zmq", help="ZeroMQ (default) or ROS 1 topics")
     p.add_argument("--namespace", default="/openiss", help="ROS topic namespace (default /openiss)")
     p.add_argument("--no-depth", action="store_true", help="send hands and gestures only")
+    p.add_argument("--no-labels", action="store_true",
+                   help="send depth without the user label image that goes with it when the backend knows it")
     p.add_argument("--codec", choices=sorted(CODECS),
                    help=f"lossless depth compression (default: raw when bound to this machine only, where "
                         f"compressing costs time and saves nothing; {DEFAULT_CODEC} otherwise)")
@@ -79,7 +81,8 @@ def codec_for(codec: str | None, bind: str, transport: str = "zmq") -> str:
 def make_publisher(args: argparse.Namespace, backend: str):
     from backends.network.publisher import DepthOptions
     codec = codec_for(args.codec, args.bind or DEFAULT_BIND, args.transport)
-    depth = DepthOptions(not args.no_depth, codec, max(1, args.downscale), args.crop, args.depth_fps)
+    depth = DepthOptions(not args.no_depth, codec, max(1, args.downscale), args.crop, args.depth_fps,
+                         labels=not args.no_labels)
     if args.transport == "ros":
         from backends.network.ros import RosPublisher
         try:

@@ -11,6 +11,8 @@ Two sockets, two paths (docs/architecture.md: gestures are events, not samples):
 Depth is cropped, downscaled and compressed on a worker thread of its own so the sensor thread
 never waits for it; if the worker is still busy when a newer frame comes, the older one is skipped
 (counted, reported in heartbeats). Raw depth (the default on loopback) is sent inline instead.
+The user label image of a frame (Frame.user_labels, when the backend knows it) goes in its depth
+message, made and compressed on the same worker (wire.py: the LABELS flag).
 """
 from __future__ import annotations
 
@@ -19,7 +21,9 @@ import re
 import threading
 import time
 from dataclasses import dataclass, replace
+from typing import Callable
 
+import numpy as np
 import zmq
 
 from backends.network import wire
@@ -32,6 +36,7 @@ DEPTH_SNDBUF = 256 * 1024
 # Codecs that only copy the image (~0.1 ms for 640x480) are sent on the sensor thread, after the
 # hands: waking the worker would cost more (it waits for the GIL while the sensor thread makes the
 # next frame: up to Python's 5 ms switch interval), and that wait is the subscriber's depth wait.
+# The frame's user labels are then made there too (free for `truth`; the engine's, a few ms).
 INLINE_CODECS = frozenset({"raw"})
 
 _TCP = re.compile(r"^tcp://(?P<host>[^\s]+):(?P<port>\d{1,5})$")
@@ -54,21 +59,35 @@ class DepthOptions:
     downscale: int = 1  # keep every Nth pixel of every Nth row (values stay exact millimetres)
     crop: tuple[int, int, int, int] | None = None  # x, y, width, height in source pixels
     max_fps: float | None = None
+    labels: bool = True  # the user label image with each depth image, when the backend knows it
 
     def shape(self, depth: DepthFrame) -> DepthFrame:
         """Crop, then downscale; the intrinsics follow so mm <-> pixels stays right."""
-        data, intr = depth.data, depth.intrinsics
+        data, intr = self.pixels(depth.data), depth.intrinsics
         if self.crop is not None:
-            x, y, w, h = self.crop
-            data = data[y:y + h, x:x + w]
+            x, y = self.crop[:2]
             intr = replace(intr, cx=intr.cx - x, cy=intr.cy - y)
         if self.downscale > 1:
             k = self.downscale
-            data = data[::k, ::k]
             intr = replace(intr, fx=intr.fx / k, fy=intr.fy / k, cx=intr.cx / k, cy=intr.cy / k)
         if data is depth.data:
             return depth
         return replace(depth, data=data, intrinsics=intr)
+
+    def pixels(self, image: np.ndarray) -> np.ndarray:
+        """The pixels of an image at the depth image's size that are sent (labels go as depth does)."""
+        if self.crop is not None:
+            x, y, w, h = self.crop
+            image = image[y:y + h, x:x + w]
+        if self.downscale > 1:
+            image = image[::self.downscale, ::self.downscale]
+        return image
+
+    def labels_of(self, frame: Frame) -> Callable[[], np.ndarray | None] | None:
+        """What makes the frame's labels as sent (called off the sensor thread), or None."""
+        if not self.labels or frame.make_user_labels is None:
+            return None
+        return lambda: None if frame.user_labels is None else self.pixels(frame.user_labels)
 
 
 class DepthGate:
@@ -88,6 +107,9 @@ class DepthGate:
         return True
 
 
+Labels = Callable[[], np.ndarray | None] | None
+
+
 class _DepthWorker(threading.Thread):
     """Compresses and sends the newest offered depth image; skips the ones it had no time for."""
 
@@ -95,18 +117,20 @@ class _DepthWorker(threading.Thread):
         super().__init__(name="issv-depth-publisher", daemon=True)
         self.socket, self.session, self.options = socket, session, options
         self._cond = threading.Condition()
-        self._slot: tuple[int, float, DepthFrame] | None = None
+        self._slot: tuple[int, float, DepthFrame, Labels] | None = None
         self._closing = False
         self.sent = 0
         self.skipped = 0
         self.bytes = 0
         self.raw_bytes = 0
+        self.labels_bytes = 0
+        self.labels_sent = 0
 
-    def offer(self, frame_seq: int, capture_time: float, depth: DepthFrame) -> None:
+    def offer(self, frame_seq: int, capture_time: float, depth: DepthFrame, labels: Labels = None) -> None:
         with self._cond:
             if self._slot is not None:
                 self.skipped += 1
-            self._slot = (frame_seq, capture_time, depth)
+            self._slot = (frame_seq, capture_time, depth, labels)
             self._cond.notify()
 
     def run(self) -> None:
@@ -116,20 +140,24 @@ class _DepthWorker(threading.Thread):
                     self._cond.wait()
                 if self._slot is None:
                     return
-                frame_seq, capture, depth = self._slot
+                frame_seq, capture, depth, labels = self._slot
                 self._slot = None
-            self.send(frame_seq, capture, depth)
+            self.send(frame_seq, capture, depth, labels)
 
-    def send(self, frame_seq: int, capture_time: float, depth: DepthFrame) -> None:
+    def send(self, frame_seq: int, capture_time: float, depth: DepthFrame, labels: Labels = None) -> None:
         """Encode and send one image (on the worker thread, or inline for a codec that only copies)."""
         depth = self.options.shape(depth)
+        image = None if labels is None else labels()
         self.sent += 1
         # Step aside between bands: the threads carrying hands and gestures go first.
         msg = wire.encode_depth(self.session, self.sent, capture_time, frame_seq, depth, self.options.codec,
-                                pause=os.sched_yield)
+                                pause=os.sched_yield, labels=image)
         self.socket.send(msg, copy=False)
         self.bytes += len(msg)
         self.raw_bytes += depth.data.nbytes
+        if image is not None:
+            self.labels_sent += 1
+            self.labels_bytes += wire.labels_size(msg)
 
     def close(self) -> None:
         with self._cond:
@@ -196,10 +224,11 @@ class Publisher:
             self.events.send(wire.encode_hands(self.session, self.seq["hands"], frame.capture_time, frame.seq,
                                                frame.timestamp, frame.backend or self.backend, frame.hands,
                                                with_depth, frame.users))
+            labels = self.depth_options.labels_of(frame) if with_depth else None
             if with_depth and self.depth_options.codec in INLINE_CODECS:
-                self._worker.send(frame.seq, frame.capture_time, frame.depth)
+                self._worker.send(frame.seq, frame.capture_time, frame.depth, labels)
             elif with_depth:
-                self._worker.offer(frame.seq, frame.capture_time, frame.depth)
+                self._worker.offer(frame.seq, frame.capture_time, frame.depth, labels)
             if time.monotonic() - self._last_heartbeat >= HEARTBEAT_S:
                 self._status(wire.HEARTBEAT)
 
@@ -237,8 +266,9 @@ class Publisher:
     def stats(self) -> dict:
         w = self._worker
         return {"bind": self.bind, "subscribers": self.subscribers, "sent": dict(self.seq, depth=w.sent),
-                "depth_skipped": w.skipped, "depth_bytes": w.bytes,
-                "compression": round(w.raw_bytes / w.bytes, 2) if w.bytes else None}
+                "depth_skipped": w.skipped, "depth_bytes": w.bytes, "labels_sent": w.labels_sent,
+                "labels_bytes": w.labels_bytes,
+                "compression": round(w.raw_bytes / (w.bytes - w.labels_bytes), 2) if w.bytes else None}  # of depth
 
     def close(self) -> None:
         """Say goodbye (with the last sequence numbers, so subscribers can count tail loss)."""

@@ -11,8 +11,11 @@ session) and what issv's Gesture, Hand and DepthFrame carry beyond the thesis.
 
 Topics under the namespace (default /openiss): gestures (openiss/Gesture, one per event), hands
 (openiss/Hands, one per frame: the hands and the users, openiss/User with their openiss/Joint), depth (openiss/DepthFrame), depth_image (sensor_msgs/Image 16UC1,
-millimetres, REP 118) with camera_info (sensor_msgs/CameraInfo), and status (std_msgs/String: the
-JSON heartbeat and goodbye of wire.py). Depth here is raw, as in the thesis: that is what ROS carries.
+millimetres, REP 118) with camera_info (sensor_msgs/CameraInfo), user_labels (sensor_msgs/Image
+mono8 at the depth image's size: 0 nobody, else the user's id; stamped and framed like the depth
+image it belongs to, sent with it when the backend knows the users' pixels and a node listens), and
+status (std_msgs/String: the JSON heartbeat and goodbye of wire.py). Depth here is raw, as in the
+thesis: that is what ROS carries.
 """
 from __future__ import annotations
 
@@ -197,6 +200,7 @@ class RosPublisher:
             "depth": rospy.Publisher(f"{ns}/depth", self.m["DepthFrame"], queue_size=1),
             "image": rospy.Publisher(f"{ns}/depth_image", sensor_msgs.msg.Image, queue_size=1),
             "info": rospy.Publisher(f"{ns}/camera_info", sensor_msgs.msg.CameraInfo, queue_size=1),
+            "labels": rospy.Publisher(f"{ns}/user_labels", sensor_msgs.msg.Image, queue_size=1),
             "status": rospy.Publisher(f"{ns}/status", std_msgs.msg.String, queue_size=100),
         }
         self.where = f"{os.environ['ROS_MASTER_URI']} {ns}/*"
@@ -245,6 +249,7 @@ class RosPublisher:
                                               users=users))
         if depth is not None:
             self._publish_depth(frame, depth)
+            self._publish_labels(frame)
         if time.monotonic() - self._last_status >= HEARTBEAT_S:
             self._status(wire.HEARTBEAT)
 
@@ -266,6 +271,17 @@ class RosPublisher:
             self.pubs["image"].publish(sensor_msgs.msg.Image(
                 header=header, height=d.height, width=d.width, encoding="16UC1", is_bigendian=0,
                 step=d.width * 2, data=d.data.tobytes()))
+
+    def _publish_labels(self, frame: Frame) -> None:
+        """The frame's user labels (made here, only when a node listens), as its depth image was sent."""
+        import sensor_msgs.msg
+        labels = self.depth_options.labels_of(frame)
+        if labels is None or not self.pubs["labels"].get_num_connections() or (image := labels()) is None:
+            return
+        height, width = image.shape
+        self.pubs["labels"].publish(sensor_msgs.msg.Image(
+            header=self._header(frame.capture_time), height=height, width=width, encoding="mono8", is_bigendian=0,
+            step=width, data=np.ascontiguousarray(image, np.uint8).tobytes()))
 
     def wait_for_subscriber(self, timeout: float) -> bool:
         """Block until some node subscribes to hands, gestures and a depth topic."""
@@ -335,6 +351,9 @@ class RosSubscriber:
                                               self._guard(self._info), queue_size=1))
             self.subs.append(rospy.Subscriber(f"{ns}/depth_image", sensor_msgs.msg.Image,
                                               self._guard(self._image), queue_size=1, buff_size=big))
+        if depth:
+            self.subs.append(rospy.Subscriber(f"{ns}/user_labels", sensor_msgs.msg.Image,
+                                              self._guard(self._labels), queue_size=2, buff_size=big))
 
     def _guard(self, convert):
         """Runs on rospy's threads: convert, or pass the problem on to be counted (never raise there)."""
@@ -391,6 +410,12 @@ class RosSubscriber:
                            capture_time=img.header.stamp.to_sec())
         return wire.DepthMsg(self._header(img.header, wire.DEPTH), img.header.seq, frame)
 
+    def _labels(self, img) -> wire.LabelsMsg:
+        if img.encoding != "mono8" or img.step != img.width or len(img.data) != img.width * img.height:
+            raise wire.WireError("bad-labels", f"image {img.encoding} step {img.step}: expected mono8 user labels")
+        labels = np.frombuffer(img.data, np.uint8).reshape(img.height, img.width)
+        return wire.LabelsMsg(self._header(img.header, wire.DEPTH), labels)
+
     def _status(self, s) -> wire.StatusMsg:
         msg = wire.decode(bytes.fromhex(s.data))
         if not isinstance(msg, wire.StatusMsg):
@@ -411,6 +436,8 @@ class RosSubscriber:
         for item, arrived in items:
             if isinstance(item, wire.WireError):
                 self.accounting.bad(item)
+            elif isinstance(item, wire.LabelsMsg):  # counted with the depth image they belong to
+                out.append(item)
             elif self.accounting.accept(item, arrived):
                 out.append(item)
         self.accounting.check_silence()

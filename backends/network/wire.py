@@ -3,9 +3,9 @@
 Every message starts with the same 32-byte header, little-endian:
 
     magic  b"ISSV"   4 bytes
-    version u8       (2; version 1, without users, is still read)
+    version u8       (3; versions 1, without users, and 2, without user labels, are still read)
     kind    u8       DEPTH 1, HANDS 2, GESTURE 3, HEARTBEAT 4, BYE 5
-    flags   u16      (0)
+    flags   u16      bit 0 (LABELS): a DEPTH message that carries its user label image; else 0
     session u64      random per publisher run: a new value means the publisher restarted
     seq     u64      per stream (depth, hands, gestures), from 1, no gaps at the sender
     capture f64      wall-clock time (time.time()) when the sensor captured the frame
@@ -20,6 +20,12 @@ user 1. A DEPTH body is a fixed binary block followed by the compressed image:
     2 pad bytes, fx f64, fy f64, cx f64, cy f64     (the intrinsics of the image as sent, so a
     cropped or downscaled image still converts between millimetres and pixels correctly)
 
+With the LABELS flag (version 3), the block is followed by the user label image of the same
+frame, at the same size as the depth image as sent (cropped and downscaled alike): `u8 labels
+codec (1 = zstd), 3 pad bytes, u32 n`, then n bytes: the row-major uint8 labels (0 nobody, else
+the user's id, as Frame.user_labels) compressed by zstd. The compressed depth image comes last,
+as without labels. Labels ride in the depth message because depth is newest-wins (one queued
+message per subscriber): a message of their own would push out the depth image of their frame.
 Decoding never trusts the bytes: any problem raises `WireError` whose `kind` names what was wrong
 (the subscriber counts problems per kind).
 """
@@ -42,12 +48,15 @@ from host import DepthFrame, Gesture, GestureState, GestureType, Hand, HandState
 from host import compression
 
 MAGIC = b"ISSV"
-VERSION = 2
-READS = (1, 2)  # versions decoded
+VERSION = 3
+READS = (1, 2, 3)  # versions decoded
+LABELS = 1  # header flag of a DEPTH message carrying user labels
 DEPTH, HANDS, GESTURE, HEARTBEAT, BYE = 1, 2, 3, 4, 5
 STREAMS = {DEPTH: "depth", HANDS: "hands", GESTURE: "gestures"}
 HEADER = struct.Struct("<4sBBHQQd")
 DEPTH_BODY = struct.Struct("<QQdHHBB2x4d")
+LABELS_BLOCK = struct.Struct("<B3xI")
+LABELS_ZSTD = 1
 MAX_PIXELS = 4096 * 4096  # refuse to allocate more than this for one depth image
 MAX_JSON = 1 << 20
 MAX_USERS, MAX_JOINTS, MAX_NAME = 16, 32, 32
@@ -72,9 +81,22 @@ class Header:
 
 @dataclass(frozen=True)
 class DepthMsg:
+    """One depth image and, when the publisher's backend knows them, its user labels."""
+
     header: Header
     frame_seq: int
     depth: DepthFrame
+    labels: np.ndarray | None = None  # uint8 (H, W) like depth: 0 nobody, else the user's id
+
+
+@dataclass(frozen=True)
+class LabelsMsg:
+    """A user label image that travels apart from its depth image (ROS's user_labels topic; ZeroMQ
+    carries labels inside the depth message): it belongs to the depth image captured at the same
+    `header.capture_time` in the same session."""
+
+    header: Header
+    labels: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -107,7 +129,7 @@ class StatusMsg:
     depth_skipped: int
 
 
-Message = DepthMsg | HandsMsg | GestureMsg | StatusMsg
+Message = DepthMsg | HandsMsg | GestureMsg | StatusMsg | LabelsMsg
 
 
 # -- lossless depth codecs ---------------------------------------------------------------------
@@ -302,17 +324,35 @@ DEFAULT_CODEC = "banded-zstd"
 
 
 # -- encoding ----------------------------------------------------------------------------------
-def header(kind: int, session: int, seq: int, capture_time: float) -> bytes:
-    return HEADER.pack(MAGIC, VERSION, kind, 0, session, seq, capture_time)
+def header(kind: int, session: int, seq: int, capture_time: float, flags: int = 0) -> bytes:
+    return HEADER.pack(MAGIC, VERSION, kind, flags, session, seq, capture_time)
+
+
+def encode_labels(labels: np.ndarray) -> bytes:
+    """The labels block: a 640x480 label image of two users is ~300 KB raw, a few KB in zstd
+    (bench/network.py's `labels` table)."""
+    payload = _zstd_in(np.ascontiguousarray(labels, np.uint8))
+    return LABELS_BLOCK.pack(LABELS_ZSTD, len(payload)) + payload
+
+
+def labels_size(msg: bytes) -> int:
+    """Bytes of the labels block in an encoded DEPTH message (0 without labels)."""
+    if not HEADER.unpack_from(msg)[3] & LABELS:
+        return 0
+    return LABELS_BLOCK.size + LABELS_BLOCK.unpack_from(msg, HEADER.size + DEPTH_BODY.size)[1]
 
 
 def encode_depth(session: int, seq: int, capture_time: float, frame_seq: int, depth: DepthFrame,
-                 codec: str = DEFAULT_CODEC, pause: Pause | None = None) -> bytes:
+                 codec: str = DEFAULT_CODEC, pause: Pause | None = None, labels: np.ndarray | None = None) -> bytes:
     c = CODECS[codec]
     i = depth.intrinsics
     body = DEPTH_BODY.pack(frame_seq, depth.frame_id % 2**64, depth.timestamp, depth.width, depth.height, c.id,
                            int(depth.mirrored), i.fx, i.fy, i.cx, i.cy)
-    return header(DEPTH, session, seq, capture_time) + body + c.encode(depth.data, pause)
+    if labels is not None and labels.shape != depth.data.shape:
+        raise ValueError(f"user labels of shape {labels.shape} for a depth image of shape {depth.data.shape}")
+    block = b"" if labels is None else encode_labels(labels)
+    return (header(DEPTH, session, seq, capture_time, LABELS if labels is not None else 0)
+            + body + block + c.encode(depth.data, pause))
 
 
 def _json(kind: int, session: int, seq: int, capture_time: float, body: dict) -> bytes:
@@ -346,17 +386,18 @@ def encode_status(kind: int, session: int, seq: int, last: dict[str, int], backe
 def decode(data: bytes) -> Message:
     if len(data) < HEADER.size:
         raise WireError("truncated", f"{len(data)} bytes, shorter than the {HEADER.size}-byte header")
-    magic, version, kind, _flags, session, seq, capture = HEADER.unpack_from(data)
+    magic, version, kind, flags, session, seq, capture = HEADER.unpack_from(data)
     if magic != MAGIC:
         raise WireError("bad-magic", f"starts with {magic!r}, not {MAGIC!r}")
     if version not in READS:
-        raise WireError("bad-version", f"version {version}, this issv reads {' and '.join(map(str, READS))}")
+        raise WireError("bad-version", f"version {version}, this issv reads "
+                                         f"{', '.join(map(str, READS[:-1]))} and {READS[-1]}")
     if not math.isfinite(capture):
         raise WireError("bad-field", "capture time is not a finite number")
     h = Header(kind, session, seq, capture)
     body = memoryview(data)[HEADER.size:]
     if kind == DEPTH:
-        return _decode_depth(h, body)
+        return _decode_depth(h, body, bool(flags & LABELS) and version >= 3)
     if kind in (HANDS, GESTURE, HEARTBEAT, BYE):
         doc = _load_json(body)
         try:
@@ -366,7 +407,7 @@ def decode(data: bytes) -> Message:
     raise WireError("unknown-kind", f"message kind {kind}")
 
 
-def _decode_depth(h: Header, body: memoryview) -> DepthMsg:
+def _decode_depth(h: Header, body: memoryview, with_labels: bool) -> DepthMsg:
     if len(body) < DEPTH_BODY.size:
         raise WireError("truncated", f"depth body of {len(body)} bytes, shorter than {DEPTH_BODY.size}")
     frame_seq, frame_id, ts, w, hgt, codec_id, mirrored, fx, fy, cx, cy = DEPTH_BODY.unpack_from(body)
@@ -377,10 +418,30 @@ def _decode_depth(h: Header, body: memoryview) -> DepthMsg:
         raise WireError("bad-depth", f"image size {w}x{hgt}")
     if not all(math.isfinite(v) for v in (ts, fx, fy, cx, cy)) or fx <= 0 or fy <= 0:
         raise WireError("bad-depth", "timestamp or intrinsics are not usable numbers")
-    data = codec.decode(body[DEPTH_BODY.size:], (hgt, w))
+    start, labels = DEPTH_BODY.size, None
+    if with_labels:
+        labels, start = _decode_labels(body, start, (hgt, w))
+    data = codec.decode(body[start:], (hgt, w))
     depth = DepthFrame(data, Intrinsics(fx, fy, cx, cy), frame_id=frame_id, timestamp=ts,
                        capture_time=h.capture_time, mirrored=bool(mirrored))
-    return DepthMsg(h, frame_seq, depth)
+    return DepthMsg(h, frame_seq, depth, labels)
+
+
+def _decode_labels(body: memoryview, start: int, shape: tuple[int, int]) -> tuple[np.ndarray, int]:
+    """The labels block at `start`: (labels, where the depth image begins)."""
+    if len(body) < start + LABELS_BLOCK.size:
+        raise WireError("bad-labels", "a depth message flagged with labels is too short for them")
+    codec, size = LABELS_BLOCK.unpack_from(body, start)
+    if codec != LABELS_ZSTD:
+        raise WireError("bad-labels", f"unknown labels codec {codec}")
+    start += LABELS_BLOCK.size
+    if len(body) < start + size:
+        raise WireError("bad-labels", f"labels of {size} bytes in a message {len(body) - start} bytes shorter")
+    try:
+        raw = _zstd_out(body[start:start + size], shape[0] * shape[1])
+    except WireError as error:
+        raise WireError("bad-labels", str(error).partition(": ")[2]) from None
+    return np.frombuffer(raw, np.uint8).reshape(shape), start + size
 
 
 def _load_json(body: memoryview) -> dict:

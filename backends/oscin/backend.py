@@ -166,10 +166,12 @@ class OscInBackend(Backend):
         now = time.monotonic()
         gestures: list[Gesture] = []
         t = self._now_t()
+        arrival = None  # of the newest message in this frame
         while rx.queue:
             item = rx.queue.popleft()
             t = item.t
             self._last_t = (t, item.arrival)
+            arrival = item.arrival
             if isinstance(item, Announcement):
                 if item.event.kind == "new":
                     self.users.announce(item.event.user, item.arrival)
@@ -184,7 +186,9 @@ class OscInBackend(Backend):
         self.users.recognising = 0.0
         self._seq += 1
         self._last_frame = time.monotonic()
-        capture = time.time() - (now - rx.last_arrival) if rx.last_arrival is not None else time.time()
+        # captured when its newest message arrived; a frame with none (a user's state kept or
+        # timed out while the bridge is quiet) is made now, not "captured" seconds ago
+        capture = time.time() - (now - arrival) if arrival is not None else time.time()
         depth = self.blank(*KINECT_V1, self._seq, t, capture, self.mirrored)
         return Frame(self._seq, capture, depth, hands if self.tracking_hands else (),
                      tuple(gestures) if self.detecting_gestures else (), self.name, users=users, time=t)

@@ -46,6 +46,19 @@ def device_lines(items: list[dict]) -> list[str]:
     return out
 
 
+def table(kind: str, items: list[dict]) -> Table:
+    """One kind's plugins; the texts are escaped: `pip install 'issv[webcam]'` is no rich markup."""
+    out = Table(title=kind, title_justify="left")
+    framed = kind in ("backends", "sources")
+    for column in ("name", "available", "plugin", *(["frames"] if framed else []), "how to fix"):
+        out.add_column(column)
+    for item in items:
+        frames = [item.get("frames") or "own"] if framed else []  # own: the backend makes its frames
+        out.add_row(escape(item["name"]), "yes" if item["available"] else "[red]no[/]", escape(item["plugin"]),
+                    *frames, escape(item["reason"] or ""))
+    return out
+
+
 def main(args: argparse.Namespace) -> int:
     registry = default_registry()
     data = {kind: [r.to_json() for r in registry.all(kind)] for kind in KINDS}
@@ -58,15 +71,7 @@ def main(args: argparse.Namespace) -> int:
         return 0
     console = Console()
     for kind, items in data.items():
-        table = Table(title=kind, title_justify="left")
-        framed = kind in ("backends", "sources")
-        for column in ("name", "available", "plugin", *(["frames"] if framed else []), "how to fix"):
-            table.add_column(column)
-        for item in items:
-            frames = [item.get("frames") or "own"] if framed else []  # own: the backend makes its frames
-            table.add_row(item["name"], "yes" if item["available"] else "[red]no[/]", item["plugin"], *frames,
-                          item["reason"] or "")
-        console.print(table)
+        console.print(table(kind, items))
     console.print("[italic]devices[/]")
     for text in device_lines(data["sources"]):
         console.print(text, soft_wrap=True)

@@ -51,7 +51,7 @@ def needs_renderer(prof: profiles.Profile, args: argparse.Namespace) -> bool:
 def main(args: argparse.Namespace) -> int:
     prof = profiles.load(args.profile)
     for warning in prof.warnings:
-        print(f"issv: {warning}; that effect is skipped", file=sys.stderr)
+        print(f"issv: {warning}", file=sys.stderr)
     output = prof.model.output
     if args.size:
         output.size = args.size

@@ -9,6 +9,12 @@ Channels (one per kind of data, so standard MCAP tools can filter them):
   `mirrored`, `truth` (null, or the source's ground truth: `hands` {side: [x, y, z]}, `gestures`
   [{name, side, start, end}], `body` {joint: [x, y, z]}, and for a scene of several performers
   `users` [{id, hands, gestures, body}], each performer in view with the same keys).
+- `/user_labels`, message encoding `issv-labels-zstd`, no schema: the user label image of a depth
+  image, written right after it when the backend knows which user is where (Frame.user_labels).
+  A UTF-8 JSON header (`frame_id`: the depth image's, `width`, `height`), a newline, then the
+  row-major uint8 labels (0 nobody, else the user's id) compressed with zstd. Optional: recordings
+  of backends without labels, and those made before this channel existed, have none (and read as
+  before: an older issv skips the channel).
 - `/gestures`, `json` (schema `issv.Gesture`): one message per gesture event, keys as in the event
   lines of docs/architecture.md (`t`, `name`, `native`, `state`, `hand`, `side`, `position`, `confidence`) at
   full precision, plus `seq`, the frame that carried it.
@@ -37,7 +43,9 @@ from host.model import (DepthFrame, Frame, Gesture, GestureState, GestureType, H
 
 FORMAT = "issv-recording/1"
 DEPTH, HANDS, GESTURES, METRICS = "/depth", "/hands", "/gestures", "/metrics"
+LABELS = "/user_labels"
 DEPTH_ENCODING = "issv-depth-zstd"
+LABELS_ENCODING = "issv-labels-zstd"
 
 _VEC = {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3,
         "description": "millimetres, camera coordinates: x right, y up, z away"}
@@ -160,6 +168,34 @@ class DepthHeader:
         return DepthFrame(data, Intrinsics(*map(float, d["intrinsics"])), frame_id=int(d["frame_id"]),
                           timestamp=float(d["t"]), capture_time=float(d["capture_time"]),
                           mirrored=bool(d["mirrored"]), truth=truth_from_json(d.get("truth")))
+
+
+def encode_labels(depth: DepthFrame, labels: np.ndarray) -> bytes:
+    """The label image of `depth` (same size): a few KB where the raw image is ~300 KB at 640x480."""
+    if labels.shape != depth.data.shape:
+        raise ValueError(f"user labels of shape {labels.shape} for a depth image of shape {depth.data.shape}")
+    header = {"frame_id": depth.frame_id, "width": depth.width, "height": depth.height}
+    return (json.dumps(header).encode() + b"\n"
+            + compression.compressor().compress(np.ascontiguousarray(labels, np.uint8)))
+
+
+def decode_labels(data: bytes) -> tuple[int, np.ndarray]:
+    """(frame_id of the depth image they belong to, uint8 labels)."""
+    head, sep, payload = data.partition(b"\n")
+    if not sep:
+        raise FormatError("user labels message has no JSON header line")
+    doc = decode_json(head)
+    try:
+        frame_id, w, h = int(doc["frame_id"]), int(doc["width"]), int(doc["height"])
+    except (KeyError, TypeError, ValueError) as error:
+        raise FormatError(f"user labels header lacks a usable `frame_id`, `width` or `height` ({error})") from None
+    try:
+        raw = compression.decompressor().decompress(payload, max_output_size=w * h)
+    except zstandard.ZstdError as error:
+        raise FormatError(f"user labels of depth frame {frame_id}: they do not decompress ({error})") from None
+    if len(raw) != w * h:
+        raise FormatError(f"user labels of depth frame {frame_id}: {len(raw)} bytes for {w}x{h}")
+    return frame_id, np.frombuffer(raw, np.uint8).reshape(h, w)
 
 
 def decode_depth(data: bytes) -> DepthHeader:

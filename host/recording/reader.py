@@ -15,6 +15,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Iterator
 
+import numpy as np
 from mcap.data_stream import ReadDataStream
 from mcap.exceptions import McapError
 from mcap.opcode import Opcode
@@ -193,24 +194,29 @@ class Recording:
         end of the source completed)."""
         depth: codec.DepthHeader | None = None
         decoded: DepthFrame | None = None
+        labels: tuple[int, np.ndarray] | None = None  # (frame_id, labels) of the last depth image
         gestures = []
         for topic, message, offset in self._messages(start):
             with self._at(offset, f"a {topic} message in the record there"):
                 if topic == codec.DEPTH:
-                    depth, decoded = codec.decode_depth(message.data), None
+                    depth, decoded, labels = codec.decode_depth(message.data), None, None
+                elif topic == codec.LABELS:
+                    labels = codec.decode_labels(message.data)
                 elif topic == codec.GESTURES:
                     doc = codec.decode_json(message.data)
                     gestures.append(codec.checked(codec.gesture_from_json, doc, "gesture"))
                 elif topic == codec.HANDS:
                     doc = codec.decode_json(message.data)
-                    frame_depth = None
+                    frame_depth = frame_labels = None
                     if depth is not None and doc.get("depth_id") == depth.frame_id:
                         decoded = frame_depth = decoded or depth.decode()
+                        if labels is not None and labels[0] == depth.frame_id:
+                            frame_labels = labels[1]
                     hands = tuple(codec.checked(codec.hand_from_json, h, "hands") for h in doc["hands"])
                     users = codec.checked(codec.users_from_json, doc, "hands")
                     yield Frame(int(doc["seq"]), float(doc["capture_time"]), frame_depth, hands,
                                 tuple(gestures), str(doc.get("backend", "")), users=users,
-                                time=float(doc["t"]))
+                                time=float(doc["t"]), make_user_labels=_constant(frame_labels))
                     gestures = []
         self.end_gestures = tuple(gestures)
 
@@ -250,6 +256,11 @@ class Recording:
                 return
             step = (last - first) / (count - 1) if count > 1 else 1.0 / 30
             offset += last - first + step
+
+
+def _constant(labels: np.ndarray | None):
+    """Frame.make_user_labels for labels read from the file (None: the recording has none)."""
+    return None if labels is None else lambda: labels
 
 
 def shifted_depth(depth: DepthFrame, offset: float, capture_time: float) -> DepthFrame:

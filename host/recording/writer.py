@@ -89,7 +89,8 @@ class RecordingWriter:
                                publish_time=publish_time, sequence=seq)
 
     def write_frame(self, frame: Frame) -> None:
-        """Depth (once per image), then the frame's gestures, then its hands: the frame's last word."""
+        """Depth (once per image) and its user labels if the backend knows them, then the frame's
+        gestures, then its hands: the frame's last word."""
         log_time = codec.seconds_to_ns(frame.timestamp)
         publish = codec.seconds_to_ns(frame.capture_time)
         with self._lock:
@@ -97,9 +98,15 @@ class RecordingWriter:
                 return
             depth = frame.depth
             if depth is not None and depth is not self._last_depth:
-                self._add(codec.DEPTH, log_time, codec.seconds_to_ns(depth.capture_time),
-                          codec.encode_depth(depth), depth.frame_id)
+                captured = codec.seconds_to_ns(depth.capture_time)
+                self._add(codec.DEPTH, log_time, captured, codec.encode_depth(depth), depth.frame_id)
                 self._last_depth = depth
+                labels = frame.user_labels if frame.make_user_labels is not None else None
+                if labels is not None:
+                    if codec.LABELS not in self._channels:  # declared with the first labels: none, no channel
+                        self._channels[codec.LABELS] = self._mcap.register_channel(codec.LABELS,
+                                                                                   codec.LABELS_ENCODING, 0)
+                    self._add(codec.LABELS, log_time, captured, codec.encode_labels(depth, labels), depth.frame_id)
             self._add_gestures(frame.gestures, frame.seq, log_time, publish)
             self._add(codec.HANDS, log_time, publish, json.dumps(codec.hands_to_json(frame)).encode(), frame.seq)
             self._t, self._seq = log_time, frame.seq

@@ -51,7 +51,8 @@ class Hud:
         self.ctx = ctx
         self.scale = max(0.4, size[1] / 1080)
         self.line_h = int(34 * self.scale)
-        self.panel = (int(760 * self.scale), self.line_h * ROWS + int(14 * self.scale))
+        # wide enough for an input label like `webcam file take.mp4 640x480, 27 fps, pose 24 ms`
+        self.panel = (min(size[0] - 16, int(1100 * self.scale)), self.line_h * ROWS + int(14 * self.scale))
         pw, ph = self.panel
         self.texture = ctx.texture(self.panel, 4)
         x0, y1 = -1.0 + 2 * 8 / size[0], 1.0 - 2 * 8 / size[1]
@@ -67,8 +68,11 @@ class Hud:
         img = np.zeros((ph, pw, 4), np.uint8)
         img[..., 3] = 150  # a dark translucent panel (premultiplied: black stays black)
         for i, text in enumerate(lines(m, layers)):
-            cv2.putText(img, text, (int(10 * self.scale), self.line_h * (i + 1)), FONT, 0.9 * self.scale,
-                        (255, 255, 255, 255), max(1, int(2 * self.scale)), cv2.LINE_AA)
+            font, thick, margin = 0.9 * self.scale, max(1, int(2 * self.scale)), int(10 * self.scale)
+            width = cv2.getTextSize(text, FONT, font, thick)[0][0]
+            font *= min(1.0, (pw - 2 * margin) / max(width, 1))  # a long line is made smaller, never cut
+            cv2.putText(img, text, (margin, self.line_h * (i + 1)), FONT, font, (255, 255, 255, 255), thick,
+                        cv2.LINE_AA)
         self.texture.write(np.ascontiguousarray(img[::-1]))
 
     def draw(self, m: Metrics, target: moderngl.Framebuffer, layers: str = "") -> None:

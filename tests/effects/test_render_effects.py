@@ -160,3 +160,21 @@ def test_star_trail_by_user_sparks_in_the_users_colour(tmp_path):
         x, y = (int(c) for c in stage.to_stage(hand, frames[-1].depth))
         patch = image[y - 15: y + 16, x - 15: x + 16].reshape(-1, 3).astype(int).sum(axis=0)
         assert patch.argmax() == channel and patch[channel] > 2 * np.delete(patch, channel).max()
+
+
+@requires_gl
+def test_silhouette_per_user_from_a_replayed_recording(tmp_path):
+    """The labels a backend gave are recorded and the replay backend gives them back: a rehearsal
+    from the file draws each user in their colour, as the live show did."""
+    from backends.replay import ReplayBackend
+    from host.recording import RecordingWriter
+    with RecordingWriter(tmp_path / "duet.mcap") as writer:
+        for frame in two_users(4, labelled_halves(), ids=(1, 3)):
+            writer.write_frame(frame)
+    with ReplayBackend.for_recording(tmp_path / "duet.mcap") as replay:
+        frames = list(iter(replay.update, None))
+    image, _, _ = run_show([Silhouette()], frames, tmp_path, SIZE)
+    one, three = image[40:200, 20:100].reshape(-1, 3), image[40:200, 220:300].reshape(-1, 3)
+    assert np.abs(one.astype(int) - bgr(user_colour(1))).max() <= 1
+    assert np.abs(three.astype(int) - bgr(user_colour(3))).max() <= 1
+    assert image[:, 110:210].max() == 0

@@ -33,6 +33,17 @@ def test_list_json_shows_the_builtins_with_availability():
     assert "console" in names["effects"]
 
 
+def test_list_shows_how_to_install_an_extra_verbatim():
+    """The reason's `issv[webcam]` is text, not rich markup (which would swallow `[webcam]`)."""
+    from rich.console import Console
+    from host.commands.list import table
+    reason = "MediaPipe is not installed: pip install 'issv[webcam]'"
+    console = Console(width=300, record=True)
+    console.print(table("backends", [{"name": "mediapipe", "available": False, "plugin": "builtin-backends",
+                                      "frames": "colour", "reason": reason}]))
+    assert reason in console.export_text()
+
+
 def test_run_reports_metrics_and_delivers_every_truth_gesture_once(tmp_path):
     from host.profile import load
     from host.assemble import make_backend

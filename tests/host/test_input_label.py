@@ -3,7 +3,7 @@ from backends.oscin.backend import OscInBackend, OscInOptions
 from backends.truth import TruthBackend
 from host.metrics import Metrics, input_of
 from host.render.hud import lines
-from host.status import line
+from host.status import line, summary
 from sources.synthetic import SyntheticSource
 
 
@@ -20,3 +20,13 @@ def test_osc_in_names_scheme_port_users_and_message_rate():
     assert metrics.input_label == "osc synapse (not listening yet)"
     with backend:
         assert metrics.input_label == f"osc synapse :{backend.port}, 0 users, 0 msg/s"
+
+
+def test_the_summary_names_the_input_and_no_source_rate_without_a_source(capsys):
+    backend = OscInBackend(None, OscInOptions(port=0, scheme="osceleton"), warn=lambda _: None)
+    summary(Metrics("osc-in", 0.0, input=input_of(backend)))
+    out = capsys.readouterr().err
+    assert "osc osceleton (not listening yet)" in out and "source rate" not in out
+    summary(Metrics("truth", 30.0, input=input_of(TruthBackend(SyntheticSource()))))
+    out = capsys.readouterr().err
+    assert "source synthetic 30 Hz" in out and "30.00 Hz" in out

@@ -125,3 +125,18 @@ def test_a_source_the_backend_does_not_use_is_a_warning():
     assert prof.source is None
     assert prof.warnings == ["p.toml: [source] 'clip' is not used: backend 'osc-in' makes its own frames "
                              "(it takes no source)"]
+
+
+def test_an_unavailable_effect_is_a_warning_and_skipped(registry):
+    class Missing(Dot):
+        name = "missing"
+
+        @classmethod
+        def availability(cls):
+            return "needs pip install 'issv[x]'"
+    registry.register("effects", Missing, "test")
+    prof = parse('backend = "truth"\n[source]\nname = "clip"\npath = "c.npz"\n[[effects]]\nname = "missing"\n'
+                 '[[effects]]\nname = "dot"\n', "p.toml", "/show", registry)
+    assert [r.ref.name for r in prof.effects] == ["dot"]
+    assert prof.warnings == ["p.toml: effects[0]: effect 'missing' is not available here: needs pip install "
+                             "'issv[x]'; that effect is skipped"]

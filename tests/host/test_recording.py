@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+from dataclasses import replace
 import signal
 import subprocess
 import sys
@@ -40,14 +41,15 @@ def test_standard_mcap_readers_see_the_documented_channels(recording):
         reader = make_reader(f)
         summary = reader.get_summary()
         channels = {c.topic: c for c in summary.channels.values()}
-        assert set(channels) == {codec.DEPTH, codec.HANDS, codec.GESTURES, codec.METRICS}
+        assert set(channels) == {codec.DEPTH, codec.LABELS, codec.HANDS, codec.GESTURES, codec.METRICS}
         assert channels[codec.HANDS].message_encoding == "json"
+        assert channels[codec.LABELS].message_encoding == codec.LABELS_ENCODING
         assert summary.schemas[channels[codec.GESTURES].schema_id].encoding == "jsonschema"
         counts = {channels_by_id.topic: n for channels_by_id, n in
                   ((summary.channels[cid], n) for cid, n in summary.statistics.channel_message_counts.items())}
         hands = [json.loads(m.data) for _, _, m in reader.iter_messages(topics=[codec.HANDS])]
     live = tracked_live(3.0)
-    assert counts[codec.HANDS] == len(live) == len(hands) and counts[codec.DEPTH] == len(live)
+    assert counts[codec.HANDS] == len(live) == len(hands) and counts[codec.DEPTH] == len(live) == counts[codec.LABELS]
     assert counts[codec.GESTURES] == sum(len(f.gestures) for f in live) > 0
     assert [h["seq"] for h in hands] == [f.seq for f in live]
     assert hands[5]["hands"][0]["position"] == list(live[5].hands[0].position)
@@ -184,3 +186,48 @@ def test_users_extended_hands_and_gesture_users_are_recorded(tmp_path):
         back = list(rec.frames())
     assert back[0].users == (user,) and back[0].hands == (hand,) and back[0].time == 1.25
     assert back[0].gestures[0].user_id == 3 and back[1].users == () and back[1].timestamp == 1.3
+
+
+def test_the_duet_labels_are_recorded_and_replayed_pixel_for_pixel(tmp_path):
+    """`issv record` of the synthetic duet (truth backend: the scene's own labels): each depth
+    image's user labels come back from the file, and from the replay backend, as they were made."""
+    from backends.replay import ReplayBackend
+    out = record(tmp_path, seconds=2.0, name="duet.mcap", scene="duet", seed=1)
+    live = tracked_live(2.0, scene="duet", seed=1)
+    with Recording(out) as rec:
+        back = list(rec.frames())
+    assert [f.depth.frame_id for f in back] == [f.depth.frame_id for f in live]
+    for mine, theirs in zip(back, live):
+        assert np.array_equal(mine.user_labels, theirs.user_labels)
+        assert np.array_equal(mine.user_mask, theirs.user_labels > 0)
+    assert set(np.unique(back[0].user_labels)) == {0, 1, 2}
+    with ReplayBackend.for_recording(out) as replay:
+        replayed = list(iter(replay.update, None))
+    assert all(np.array_equal(a.user_labels, b.user_labels) for a, b in zip(replayed, live))
+    assert len(replayed) == len(live)
+
+
+def test_a_recording_without_labels_has_no_labels_channel_and_plays_as_before(tmp_path):
+    """A backend that knows no user pixels writes what every recording held before labels existed
+    (no /user_labels channel at all), and such a file plays with no labels."""
+    frames = [replace(f, make_user_labels=None) for f in tracked_live(1.0)]
+    path = write(tmp_path / "old.mcap", frames)
+    with open(path, "rb") as f:
+        topics = {c.topic for c in make_reader(f).get_summary().channels.values()}
+    assert codec.LABELS not in topics and codec.DEPTH in topics
+    with Recording(path) as rec:
+        back = list(rec.frames())
+    assert len(back) == len(frames) and all(f.user_labels is None and f.depth is not None for f in back)
+
+
+def test_damaged_labels_are_named():
+    depth = tracked_live(0.1)[0].depth
+    good = codec.encode_labels(depth, np.ones(depth.data.shape, np.uint8))
+    assert np.array_equal(codec.decode_labels(good)[1], np.ones(depth.data.shape, np.uint8))
+    head, _, payload = good.partition(b"\n")
+    with pytest.raises(codec.FormatError, match="bytes for"):
+        codec.decode_labels(head.replace(b'"width": 160', b'"width": 80') + b"\n" + payload)
+    with pytest.raises(codec.FormatError, match="do not decompress"):
+        codec.decode_labels(head + b"\n" + payload[:-3])
+    with pytest.raises(ValueError, match="user labels of shape"):
+        codec.encode_labels(depth, np.ones((2, 2), np.uint8))

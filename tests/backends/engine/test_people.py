@@ -8,7 +8,7 @@ import pytest
 from backends.engine.backend import OpenISSBackend, OpenISSNuitrackBackend
 from backends.engine.people import PeopleOptions, PeopleTracker
 from backends.engine.segmentation import Grid, Person, Segment, SegmentationOptions, Segmenter
-from host import GestureState, HandState, Side
+from host import DepthFrame, GestureState, HandState, Intrinsics, Side
 from tests.backends.engine.performer import frames, idle, walk
 
 SIZE = {"width": 320, "height": 240}
@@ -29,6 +29,13 @@ def gesturing():
     raise_ = {"x_mm": 900, "distance_mm": 3000, "choreography": [idle(1.0), {"action": "hand_raise", "hand": "left"},
                                                                    idle(1.5)]}
     return frames(performers=[wave, raise_], **SIZE)
+
+
+@pytest.fixture(scope="module")
+def near_child():
+    """The `range` scene's first 1.5 s: a child (1.2 m tall) 0.9 m from the camera, hips and legs below
+    the picture (only 0.45 m of them in view), and an adult 4.4 m away."""
+    return [f for f in frames(scene="range", **SIZE) if f.timestamp < 1.5]
 
 
 def run(depth_frames):
@@ -245,3 +252,37 @@ def test_the_wall_between_a_raised_arm_and_the_head_is_nobody(max_enclosed, phan
     counts = [len(segmenter.people(f)) for f in raised]
     assert min(counts) == 1
     assert (max(counts) > 1) is phantoms, counts
+
+
+def test_a_child_close_to_the_camera_is_found_at_once_though_cut_off_by_the_picture(near_child):
+    results = run(near_child)
+    near = [[u.id for u in r.users if u.in_view and u.joints["torso"].position[2] < 1500] for r in results]
+    first = next((i for i, ids in enumerate(near) if ids), None)
+    assert first is not None, "the child is never found"
+    assert near_child[first].timestamp <= 0.5 and len(near[first]) == 1
+    assert all(ids == near[first] for ids in near[first:])  # one user, the same id, in every frame after
+    assert all(sum(u.in_view and u.joints["torso"].position[2] > 3500 for u in r.users) == 1 for r in results)
+
+
+def furniture(width: int = 320, height: int = 240) -> DepthFrame:
+    """A chair back 450 mm wide, 1 m away, its top 50 mm below the camera, and a desk top 300 mm
+    below the camera from the picture's bottom (0.76 m away) to 2.2 m, both going on below the
+    picture; nothing else."""
+    k = Intrinsics.from_fov(width, height, 57.0, 43.0)
+    v, u = np.mgrid[0:height, 0:width].astype(np.float64)
+    xn, yn = (u - k.cx) / k.fx, (k.cy - v) / k.fy
+    z = np.zeros((height, width))
+    desk = -300 / np.minimum(yn, -1e-9)  # where each ray meets the desk's plane
+    on_desk = (desk <= 2200) & (xn * desk >= 100) & (xn * desk <= 700)
+    z[on_desk] = desk[on_desk]
+    z[(xn * 1000 >= -480) & (xn * 1000 <= -30) & (yn * 1000 <= -50)] = 1000
+    return DepthFrame(np.round(z).astype(np.uint16), k)
+
+
+def test_furniture_cut_off_by_the_picture_is_nobody():
+    """Both are person-sized but for their height in the picture (0.34 m and 0.31 m): a rule letting
+    anything the picture's bottom cuts be a person from 300 mm took both. A person cut off shows a
+    head on shoulders; the chair back's top is as wide as it is, the desk top is 0 mm tall in the room."""
+    frame = furniture()
+    assert len(Segmenter(SegmentationOptions(floor=False, min_user_height_mm=250)).people(frame)) == 2
+    assert Segmenter(SegmentationOptions(floor=False)).people(frame) == []

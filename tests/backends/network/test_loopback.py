@@ -65,6 +65,10 @@ def test_a_swipe_the_clip_ends_on_arrives_before_the_stream_ends(serve, tmp_path
     assert [g.name for g in gestures if g.state.value == "complete"] == ["swipe_left"]
     depth = Clip(clip).depth
     assert all(np.array_equal(f.depth.data, depth[f.depth.frame_id]) for f in frames if f.depth is not None)
+    labelled = [f for f in frames if f.depth is not None and f.user_labels is not None]  # the engine's users
+    assert len(labelled) == len([f for f in frames if f.depth is not None])
+    assert all(f.user_labels.shape == f.depth.data.shape for f in labelled)
+    assert any(f.user_labels.any() for f in labelled)
     server.proc.wait(timeout=20)
     sent = json.loads(stats_file.read_text())
     assert sent["compression"] == 1.0 and sent["depth_skipped"] == 0 and sent["sent"]["depth"] == len(depth)

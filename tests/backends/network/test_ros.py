@@ -15,6 +15,7 @@ import pytest
 from backends.network.ros import rospy_missing
 from sources.clip import Clip
 from tests.backends.network.conftest import ROOT, Serve, clip_profile, free_ports, stop, wait_for_line
+from tests.backends.network.test_labels import assert_duet_labels_arrived, duet_profile, received, subscribe
 from tests.backends.network.test_users import duet
 from tests.backends.oscin.helpers import replay
 
@@ -37,25 +38,25 @@ def roscore():
         stop(core, grace=15)
 
 
-def test_serve_over_ros_to_the_network_backend(roscore, tmp_path, performer_clip):
+def serve_to_ros_subscribers(roscore: dict, tmp_path, profile, seconds: float) -> dict[str, tuple[str, str]]:
+    """`issv serve --transport ros` of `profile` for `seconds`, to two subscriber processes subscribed
+    before it starts (openiss/DepthFrame and sensor_msgs/Image depth, dumped to tmp_path/KIND.npz):
+    {kind: (stdout, stderr)}."""
     master = roscore["ROS_MASTER_URI"]
-    subs = {}
-    for kind in ("frame", "image"):
-        subs[kind] = subprocess.Popen(
-            [sys.executable, "-m", "bench.network", "subscribe", "--transport", "ros", "--connect", master,
-             "--ros-depth", kind, "--timeout", "40", "--dump", str(tmp_path / f"{kind}.npz")],
-            cwd=ROOT, env=roscore, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    for kind, proc in subs.items():  # both subscribed before the publisher starts
-        wait_for_line(proc, "subscribed", f"the ROS {kind} subscriber")
-    server = Serve(str(clip_profile(tmp_path, performer_clip, loop=True)), "--transport", "ros", "--bind", master,
-                   "--seconds", "4", env=roscore)
+    subs = {kind: subscribe(tmp_path, master, "--transport", "ros", "--ros-depth", kind, env=roscore, name=kind)
+            for kind in ("frame", "image")}
+    server = Serve(str(profile), "--transport", "ros", "--bind", master, "--seconds", str(seconds), env=roscore)
     try:
-        results = {k: p.communicate(timeout=60) for k, p in subs.items()}
+        return {k: p.communicate(timeout=90) for k, p in subs.items()}
     finally:
         server.stop()
         for p in subs.values():
             if p.poll() is None:
                 p.kill()
+
+
+def test_serve_over_ros_to_the_network_backend(roscore, tmp_path, performer_clip):
+    results = serve_to_ros_subscribers(roscore, tmp_path, clip_profile(tmp_path, performer_clip, loop=True), 4)
     clip = Clip(performer_clip)
     for kind, (out, err) in results.items():
         got = json.loads(out.strip().splitlines()[-1])
@@ -113,3 +114,14 @@ def test_users_over_ros_in_the_hands_topic(roscore, tmp_path):
     assert user2["center_of_mass"] is not None
     assert all(extended in (True, False) for f in with_users for _, extended, _ in f["hands"])
     assert {user for f in got for _, user in f["gestures"]} <= {1, 2}
+
+
+def test_the_duet_labels_arrive_over_ros_with_their_depth_images(roscore, tmp_path):
+    """`issv serve --transport ros` of the synthetic duet: <ns>/user_labels (mono8) joins each depth
+    image, as openiss/DepthFrame and as sensor_msgs/Image, in subscriber processes; the labels equal
+    those sent, pixel for pixel."""
+    results = serve_to_ros_subscribers(roscore, tmp_path, duet_profile(tmp_path), 5)
+    for kind, (out, err) in results.items():
+        got = json.loads(out.strip().splitlines()[-1])
+        assert got["malformed"] == {}, err
+        assert_duet_labels_arrived(received(tmp_path / f"{kind}.npz"), late=True)

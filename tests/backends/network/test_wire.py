@@ -85,8 +85,8 @@ def test_version_1_messages_are_still_read():
     g = wire.decode(head + b'{"frame":42,"type":"WAVE","state":"complete","position":[0,0,0],"hand":1,'
                            b'"side":"left","confidence":1,"t":0}').gesture
     assert g.user_id == 1 and g.name == "wave"
-    with pytest.raises(wire.WireError, match="bad-version: version 3, this issv reads 1 and 2"):
-        wire.decode(wire.HEADER.pack(wire.MAGIC, 3, wire.HANDS, 0, 5, 1, 10.0) + b"{}")
+    with pytest.raises(wire.WireError, match="bad-version: version 4, this issv reads 1, 2 and 3"):
+        wire.decode(wire.HEADER.pack(wire.MAGIC, 4, wire.HANDS, 0, 5, 1, 10.0) + b"{}")
 
 
 def test_learned_gestures_keep_their_name_and_hands_on_the_wire():

@@ -10,6 +10,7 @@ import math
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 from backends.oscin.backend import OscInBackend, OscInOptions
@@ -67,7 +68,13 @@ def backend(**options) -> OscInBackend:
     return OscInBackend(None, OscInOptions.model_validate(settings), warn=lambda text: None)
 
 
-def collect(b: OscInBackend) -> list[Frame]:
+def collect(b: OscInBackend, first_within_s: float = 60.0) -> list[Frame]:
+    """Every frame until the backend ends. Waits for the sender's first datagram first: a sender
+    process that starts slowly on a loaded machine must not meet a backend already ended idle."""
+    receiver = getattr(b, "receiver", None) or b.inner.receiver  # osc-in, or wrapped for learned gestures
+    deadline = time.monotonic() + first_within_s
+    while receiver.last_arrival is None and time.monotonic() < deadline:
+        time.sleep(0.01)
     frames = []
     while (frame := b.update()) is not None:
         frames.append(frame)

@@ -111,6 +111,21 @@ def test_bad_messages_are_counted_and_reported_once_per_kind():
         "ignored: 6 datagrams that are not OSC, 3 unknown OSCeleton address" in warnings[-1]
 
 
+def test_a_quiet_bridges_frames_are_made_now_not_captured_long_ago():
+    """OSCeleton says /new_user, then nothing until the skeleton is calibrated: the frames that keep
+    the user (until LOST) carry no message, so their capture time is when they are made; the
+    show's capture -> effect latency stays that of the frames, not the silence's length."""
+    from pythonosc.udp_client import SimpleUDPClient
+    with backend(end_after_idle_s=1.2, lost_timeout_s=0.8) as b:
+        SimpleUDPClient("127.0.0.1", b.port).send_message("/new_user", 1)
+        lags, made = [], []
+        while (frame := b.update()) is not None:
+            lags.append(time.time() - frame.capture_time)
+            made.append(time.monotonic())
+    assert made[-1] - made[0] > 0.6 and len(lags) > 10  # the user kept, then LOST, with no message
+    assert max(lags) < 0.2, lags
+
+
 def test_synapse_is_sent_the_keep_alive_it_needs():
     synapse = Receiver()  # stands where Synapse listens for /<joint>_trackjointpos
     try:
@@ -194,7 +209,7 @@ def test_osc_replay_keeps_the_timing_and_names_bad_lines(tmp_path):
     inbox = Receiver()
     try:
         proc = replay(session, inbox.port, "--speed", "2")
-        assert proc.wait(10) == 0
+        assert proc.wait(60) == 0  # a loaded machine takes seconds to start a Python process
         assert inbox.wait_for(lambda r: len(r.packets) == 3)
         at = [p.at for p in inbox.packets]
         assert at[1] - at[0] == pytest.approx(0.1, abs=0.04) and at[2] - at[1] == pytest.approx(0.15, abs=0.04)
@@ -204,7 +219,7 @@ def test_osc_replay_keeps_the_timing_and_names_bad_lines(tmp_path):
         inbox.close()
     session.write_text("0 osceleton /new_user 1;\nten osceleton /joint head 1 0.5 0.5 1;\n")
     proc = replay(session, 9)
-    assert proc.wait(10) == 1
+    assert proc.wait(60) == 1
     assert f"{session}:2: expected '<ms delta>" in proc.stderr.read()
 
 

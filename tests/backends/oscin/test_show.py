@@ -24,6 +24,7 @@ def test_the_stage_profile_runs_on_osc_in_with_its_effects(tmp_path):
     out, err = show.communicate(timeout=120)
     assert sender.wait(30) == 0 and show.returncode == 0, err
     assert "is not used: backend 'osc-in' makes its own frames" in err  # the profile's [source]
+    assert "that effect is skipped" not in err  # a source warning, not an effect one
     assert "disabled" not in err and "Traceback" not in err  # every effect ran on osc-in's frames
     m = json.loads(metrics.read_text())
     assert m["backend"] == "osc-in" and m["frames"] > 20 and m["gestures_by_name"].get("swipe_right") == 1

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Callable
 
 import numpy as np
+import pytest
 from pythonosc.parsing.osc_types import get_string
 from pythonosc.osc_message import OscMessage
 from pythonosc.osc_bundle import OscBundle
@@ -32,6 +33,12 @@ from host.loop import EffectSlot, Limits, PacedSource, Show
 ROOT = Path(__file__).resolve().parents[3]
 K = Intrinsics.from_fov(640, 480, 57, 43)
 FPS = 30.0
+
+
+def as_sent(args: list) -> list:
+    """What Pd echoes back of `args`: strings exactly, numbers as 32-bit floats (pytest 9.2's approx
+    refuses a list with strings in it)."""
+    return [a if isinstance(a, str) else pytest.approx(a, rel=1e-7) for a in args]
 
 
 def hand_at(side: Side, i: int) -> tuple[float, float, float]:

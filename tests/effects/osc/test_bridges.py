@@ -25,7 +25,7 @@ from host import HandState, Joint, User
 from host.recording import Recording
 from tests.backends.network.test_users import duet as duet_session
 from tests.backends.oscin.helpers import env, replay
-from tests.effects.osc.helpers import PureData, Receiver, body_at, free_port, make_osc, run_show_with, run_users
+from tests.effects.osc.helpers import PureData, Receiver, as_sent, body_at, free_port, make_osc, run_show_with, run_users
 
 def documented(text: str) -> dict[str, str]:
     """The address -> type tags table of a preset's text (what `issv osc-schema NAME` prints)."""
@@ -250,7 +250,7 @@ def test_a_pd_patch_for_osceleton_parses_every_message(bridges_pd, receiver):
     assert pd.echo.wait_for(lambda r: len(r.messages()) == len(sent) + 1)  # and /echo/ready
     for (address, _, args), (echoed, tags, back) in zip(sent, pd.echo.messages()[1:]):
         assert echoed == "/echo" + address
-        assert back == pytest.approx(args, rel=1e-7)  # ids come back as Pd floats, positions as sent
+        assert list(back) == as_sent(args)  # ids come back as Pd floats, positions as sent
     assert "error" not in pd.close()
 
 
