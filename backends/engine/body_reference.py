@@ -47,6 +47,7 @@ class BodyReference:
         self._recent: deque[tuple[float, float, float, float]] = deque()  # t, mean x, lowest y, furthest z
         self._heights: deque[tuple[float, float]] = deque()  # t, torso y: its vertical speed
         self._given: tuple | None = None  # the last body points given: t, torso, head
+        self.measured = False  # the last frame's body came from body points, not from the hands
 
     def update(self, t: float, hands: Mapping[int, np.ndarray], body: Mapping[str, tuple]) -> BodyFrame:
         r = self.rules
@@ -56,6 +57,7 @@ class BodyReference:
             self._given = (t, torso, head)
         elif self._given is not None and t - self._given[0] <= r.body_hold_s:
             _, torso, head = self._given  # a skeleton missing for a moment: the body has not moved
+        self.measured = torso is not None or head is not None
         if torso is None and head is None:  # estimated: its vertical speed is unknown, say steady
             estimate = self._estimate()
             torso = estimate if estimate is not None else np.zeros(3)

@@ -24,7 +24,7 @@ from pydantic import Field
 from backends.engine.people import PeopleOptions, PeopleTracker
 from backends.engine.recognizer import GestureRecognizer
 from backends.engine.rules import GestureRules
-from backends.engine.segmentation import Grid, Segment, Segmenter
+from backends.engine.segmentation import Segment, Segmenter, bounding_box
 from backends.engine.tracker import HandTracker, TrackerOptions, TrackResult
 from host import DepthFrame, Gesture, GestureType, Hand, HandState, Joint, User
 
@@ -150,15 +150,13 @@ class Engine:
         if segment is None:
             return None
         g, mask = segment.grid, segment.mask
-        rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
         body = self.options.body
         widest = max(body.core_width_mm, body.outline_width_mm)
         margin = int(np.ceil(widest / (g.cell_x * 0.5 * depth_mm))) + 2
-        box = (slice(max(0, rows[0] - margin), rows[-1] + margin + 1),
-               slice(max(0, cols[0] - margin), cols[-1] + margin + 1))
-        if mask[box].size >= 0.8 * mask.size:
+        box = bounding_box(mask, margin)
+        if box is None or mask[box].size >= 0.8 * mask.size:
             return segment
-        return Segment(mask[box], Grid(g.z[box], g.x[box], g.y[box], g.pixel_area_mm2[box], g.cell_x, g.cell_y))
+        return Segment(mask[box], g.crop(box))
 
     def _pipeline(self, uid: int) -> _Pipeline:
         # the user's hands are held while they are hidden, until the people tracker says LOST

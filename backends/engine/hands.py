@@ -20,7 +20,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.trunk import Body
-from backends.engine.segmentation import ONE_CELL_GAP, Segment
+from backends.engine.segmentation import ONE_CELL_GAP, Segment, bounding_box
 
 
 class HandOptions(BaseModel):
@@ -66,24 +66,32 @@ class HandDetector:
         self.options = options
 
     def detect(self, seg: Segment, body: Body) -> list[Candidate]:
-        o, g = self.options, seg.grid
+        o = self.options
+        # Only the user's cells count, and the gap bridging reaches two cells out: the user's box
+        # that much wider is all there is to look at.
+        box = bounding_box(seg.mask, 2)
+        if box is None:
+            return []
+        g, mask, core = seg.grid.crop(box), seg.mask[box], body.core[box]
+        top, left = box[0].start, box[1].start
         tx, _, _ = body.torso
         dx = g.x - tx
         front = body.surface_z - g.z
-        head_clear = np.hypot(g.x - body.head[0], g.y - body.head[1]) > o.head_clearance_mm
+        hx, hy = g.x - body.head[0], g.y - body.head[1]
+        head_clear = hx * hx + hy * hy > o.head_clearance_mm ** 2
         extended = (((front > o.front_mm) & (head_clear | (body.face_z - g.z > o.front_mm)))
-                    | ((np.abs(dx) > o.beside_mm) & ~body.core)
+                    | ((np.abs(dx) > o.beside_mm) & ~core)
                     | ((g.y > body.shoulder_y + o.above_shoulder_mm) & head_clear))
-        cand = seg.mask & extended & (g.y > body.hip_y)
+        cand = mask & extended & (g.y > body.hip_y)
         if not cand.any():
             return []
         # One-cell gaps (dropped readings) do not cut an arm in two; the gap cells stay out of it.
         bridged = cv2.morphologyEx(cand.view(np.uint8), cv2.MORPH_CLOSE, ONE_CELL_GAP)
         count, labels = cv2.connectedComponents(bridged, connectivity=8)
         labels[~cand] = 0
-        attached = self._attached(cand, seg.mask & ~cand, g.z)
+        attached = self._attached(cand, mask & ~cand, g.z)
         neck = np.array([tx, body.shoulder_y, body.torso[2]])
-        h, w = g.shape
+        h, w = seg.mask.shape  # the edges of the segment's grid (the image's, where the user reaches them)
         found: list[Candidate] = []
         for label in range(1, count):
             ys, xs = np.nonzero(labels == label)
@@ -111,7 +119,8 @@ class HandDetector:
                 position = pts[palm].mean(axis=0) + (0.0, 0.0, o.hand_depth_mm)
                 if self._elbow(position, body, neck):
                     continue
-                at_border = bool(np.any((ys[palm] == 0) | (ys[palm] == h - 1) | (xs[palm] == 0) | (xs[palm] == w - 1)))
+                rows, cols = ys[palm] + top, xs[palm] + left
+                at_border = bool(np.any((rows == 0) | (rows == h - 1) | (cols == 0) | (cols == w - 1)))
                 reach = float(np.linalg.norm(pts[tip] - neck))
                 if reach < o.min_reach_mm:
                     continue

@@ -105,6 +105,7 @@ class _HandTrack:
     raised_since: float | None = None  # when the hand last went up above the head
     raised_done: bool = False
     slow_since: float | None = None  # since when the raised hand has been moving slowly
+    squat_watch: Stroke | None = None  # a push of both hands from hanging: is the body about to squat?
 
     last: dict[int, Stroke] = field(default_factory=dict)  # per axis: the last stroke judged
     jitter: dict[int, Stroke] = field(default_factory=dict)  # per axis: a reversal too brief to judge, held back
@@ -168,6 +169,11 @@ class GestureRecognizer:
         if unknown:
             raise ValueError(f"unknown gesture names {sorted(unknown)}; expected some of {', '.join(CANONICAL_GESTURES)}")
         self.reset()
+
+    @property
+    def body_measured(self) -> bool:
+        """Does a skeleton give the body (torso or head) now, rather than an estimate from the hands?"""
+        return self._body.measured
 
     def size(self, s: Sample) -> float:
         """The performer's size relative to the adult the distance thresholds are stated for."""
@@ -274,6 +280,7 @@ class _Hand:
         self.swipe_under_way()
         self.resolve_all()
         self.click_under_way()
+        self.squat_watched()
         self.hand_raise(s)
 
     def resolve_all(self, in_view: bool = True) -> None:
@@ -326,6 +333,9 @@ class _Hand:
             # one that starts or ends at the head is a hand going there (goggles, hands on the head)
             lowest = stroke.lowest
             if not self.seen_throughout(stroke) or self.at_head(stroke.start) or self.at_head(stroke.end):
+                return False
+            # an arm thrown up or down as the body bends or kicks: the head moves relative to the torso
+            if self.head_moved(stroke) > self.r.swipe_vertical_max_head_move_mm * self.rec.size(stroke.start):
                 return False
         else:
             lowest = core.lowest
@@ -398,16 +408,18 @@ class _Hand:
     def is_swipe(self, stroke: Stroke) -> bool:
         core = self.core(stroke)
         return (core.travel >= self.r.swipe_min_travel_mm and self.swipe_like(stroke)
-                and not self.mirrored_by_other_hand(core))
+                and not self.mirrored_by_other_hand(core, along=True))
 
-    def mirrored_by_other_hand(self, stroke: Stroke) -> bool:
-        """Did another hand make the opposite motion at the same time (a clap, arms spreading)?
-        Swipes and waves are made by one hand."""
+    def mirrored_by_other_hand(self, stroke: Stroke, along: bool = False) -> bool:
+        """Did another hand make the opposite motion at the same time (a clap, arms spreading)? With
+        `along`, or the same motion (the body turning, both arms swinging the same way to balance a
+        kick)? Swipes and waves are made by one hand, the other still or elsewhere."""
         for other in self.others:
             during = _during(other, stroke)
             if len(during) >= 2:
-                against = max(-stroke.direction * (q.p[stroke.axis] - during[0].p[stroke.axis]) for q in during)
-                if against >= self.r.swipe_comparable_ratio * stroke.travel:
+                moved = [stroke.direction * float(q.p[stroke.axis] - during[0].p[stroke.axis]) for q in during]
+                limit = self.r.swipe_comparable_ratio * stroke.travel
+                if -min(moved) >= limit or (along and max(moved) >= limit):
                     return True
         return False
 
@@ -486,7 +498,22 @@ class _Hand:
                 and stroke.lowest >= stroke.start.shoulder - r.wave_arc_below_shoulder_mm * k
                 and stroke.end.seen_since == stroke.start.seen_since
                 and self.hands_apart(stroke) >= r.wave_min_hands_apart_mm * k
+                and self.tilt(stroke) <= r.wave_max_tilt_deg
                 and not self.mirrored_by_other_hand(stroke))
+
+    @staticmethod
+    def head_moved(stroke: Stroke) -> float:
+        """How far the head moved relative to the torso during the stroke, mm (0 without a skeleton's head)."""
+        face = np.array([q.face for q in stroke.samples])
+        return float(np.max(np.linalg.norm(face - face[0], axis=1)))
+
+    @staticmethod
+    def tilt(stroke: Stroke) -> float:
+        """How far the body leaned during the stroke: the largest angle, degrees, between straight up and
+        the line from the torso to the head (0 without a skeleton's head)."""
+        face = np.array([q.face for q in stroke.samples])
+        up = face[:, Y] / np.maximum(np.linalg.norm(face, axis=1), 1e-9)
+        return float(np.degrees(np.arccos(np.clip(up.min(), -1.0, 1.0))))
 
     def hands_apart(self, stroke: Stroke) -> float:
         """How near the other hands came to this one during the stroke, mm (inf: no other hand)."""
@@ -569,20 +596,41 @@ class _Hand:
                 and stroke.duration <= self.r.swing_max_stroke_s, self.r.oscillation_max_gap_s)
         if len(chain) >= 4 or not (self.click_like(stroke) and self.halted(stroke)) or self.arms_swinging(stroke):
             return
+        if self.arms_swinging(stroke, together=True):
+            if self.rec.body_measured:  # a squat or a jump, if the body sinks or rises soon: wait and see
+                self.tr.squat_watch = stroke
+            return
         self.emit("click", GestureState.COMPLETE, self.click_confidence(stroke), stroke.end)
 
-    def arms_swinging(self, stroke: Stroke) -> bool:
-        """Did another hand swing back as this one came forward (running, walking), or rise forward
-        with it from hanging at the side (squatting, jumping)?"""
+    def squat_watched(self) -> None:
+        """Both hands pushed forward from hanging at the sides with a skeleton to tell: a push if the
+        body stayed up until `click_squat_watch_s` after it (a squat's arms rise before the body
+        sinks), else the arms' swing of a squat or jump."""
+        stroke = self.tr.squat_watch
+        if stroke is None or self.t < stroke.end.t + self.r.click_squat_watch_s:
+            return
+        self.tr.squat_watch = None
+        body_vy = [abs(q.body_vy) for q in self.tr.samples if q.t >= stroke.start.t]
+        if max(body_vy) <= self.r.steady_body_max_vertical_speed_mm_s:
+            self.emit("click", GestureState.COMPLETE, self.click_confidence(stroke), stroke.end)
+
+    def arms_swinging(self, stroke: Stroke, together: bool = False) -> bool:
+        """Did another hand swing back as this one came forward (running, walking)? With `together`,
+        did it rise forward with it from hanging at the side (squatting, jumping; or pushing a button
+        with both hands)?"""
         core = self.core(stroke)
         ratio = self.r.swipe_comparable_ratio
-        hanging = core.start.p[Y] - core.start.shoulder <= -self.r.click_hanging_below_shoulder_mm * self.rec.size(core.start)
+        hanging = (together and core.start.p[Y] - core.start.shoulder
+                   <= -self.r.click_hanging_below_shoulder_mm * self.rec.size(core.start))
         for other in self.others:
             during = _during(other, core)
             if len(during) < 2:
                 continue
             forward, up = during[0].p[Z] - during[-1].p[Z], during[-1].p[Y] - during[0].p[Y]
-            if forward <= -ratio * core.travel or (hanging and forward >= ratio * core.travel and up >= ratio * core.travel):
+            if together:
+                if hanging and forward >= ratio * core.travel and up >= ratio * core.travel:
+                    return True
+            elif forward <= -ratio * core.travel:
                 return True
         return False
 

@@ -56,6 +56,10 @@ class GestureRules(BaseModel):
     swipe_low_min_reach_mm: float = Field(
         350.0, gt=0, description="how far out from the spine, on its own side, such a low swipe must end "
         "(beyond the shoulder: a hanging hand is 150-250 mm out)")
+    swipe_vertical_max_head_move_mm: float = Field(
+        80.0, gt=0, description="during a swipe up or down the head moves no more than this relative to the torso "
+        "(for an adult, scaled to the performer's size): the arm moves, the body stays; an arm thrown up or "
+        "down while the body bends, kicks or twists moves the head 90-180 mm")
     swipe_dominance: float = Field(
         1.5, ge=1, description="travel along the swipe direction over the largest travel along the other axes: "
         "diagonal wind-ups and returns stay below it")
@@ -118,6 +122,10 @@ class GestureRules(BaseModel):
         "(hands clapping, rubbing, at the eyes or on the head are close together)")
     wave_max_stroke_s: float = Field(0.5, gt=0, description="a slower side-to-side stroke is not waving "
         "(waves swing at 1-4 Hz: 0.12-0.5 s a swing)")
+    wave_max_tilt_deg: float = Field(
+        20.0, ge=0, description="a wave is made with the body upright: the line from the torso to the head "
+        "within this angle of straight up (waves: up to 12 degrees; leaning to the side, bowing or lunging, "
+        "hands on the hips or swinging sweep sideways relative to the tilted torso)")
     wave_min_reversals: int = Field(3, ge=1, description="direction reversals needed: 3 = right-left-right-left")
     wave_max_below_shoulder_mm: float = Field(
         150.0, description="every swing of a wave reaches no lower than this below the shoulders: in "
@@ -152,6 +160,10 @@ class GestureRules(BaseModel):
     click_hanging_below_shoulder_mm: float = Field(
         300.0, gt=0, description="a push that starts this far below the shoulders starts from a hanging "
         "hand; then another hand rising forward with it makes both arms' swing (squat, jump), no push")
+    click_squat_watch_s: float = Field(
+        0.6, ge=0, description="both hands pushed forward together from hanging at the sides are a push only if, "
+        "with a skeleton to tell, the body stays up (`steady_body_max_vertical_speed_mm_s`) until this long "
+        "after it: a squat's arms rise before the body sinks (0.3-0.5 s later); without a skeleton, never")
     click_min_reach_mm: float = Field(
         400.0, gt=0, description="the push ends at least this far in front of the torso (an arm stretched "
         "out: 500-650 mm; arms swinging while walking, running or kicking stay nearer)")

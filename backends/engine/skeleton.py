@@ -23,7 +23,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from backends.engine.segmentation import Grid, Segment
+from backends.engine.quantiles import median
+from backends.engine.segmentation import Grid, Segment, bounding_box
 from backends.engine.trunk import Body
 from backends.users import hand_id
 from host import Hand, HandState, Joint, Side, Vec3
@@ -181,7 +182,7 @@ class SkeletonEstimator:
         lo, hi = o.shoulder_half_width_mm
         edge = side.edge[np.abs(view.rows_y - (body.shoulder_y - 60)) < 60]
         edge = edge[np.isfinite(edge)]
-        half = min(hi, max(lo, float(np.median(edge)) - o.shoulder_inside_edge_mm)) if edge.size else 0.5 * (lo + hi)
+        half = min(hi, max(lo, float(median(edge)) - o.shoulder_inside_edge_mm)) if edge.size else 0.5 * (lo + hi)
         return np.array([body.torso[0] + outwards * half, body.shoulder_y, body.surface_z + o.joint_depth_mm])
 
     def _knee(self, out: list[Hand], beside: np.ndarray, body: Body) -> bool:
@@ -201,7 +202,7 @@ class SkeletonEstimator:
         # The legs' outer edge: the median over the thighs' rows, where legs are seen.
         legs_lo, legs_hi = body.hip_y - o.legs_below_hips_mm[1], body.hip_y - o.legs_below_hips_mm[0]
         legs = edge[(rows_y > legs_lo) & (rows_y < legs_hi) & np.isfinite(edge)]
-        legs_edge = float(np.median(legs)) if legs.size >= 3 else o.legs_half_width_mm
+        legs_edge = float(median(legs)) if legs.size >= 3 else o.legs_half_width_mm
         arm_rows = (rows_y < top) & (rows_y > bottom) & (edge > legs_edge + o.beside_legs_mm)
         beside = bool(arm_rows.any())
         if beside:
@@ -230,15 +231,14 @@ class SkeletonEstimator:
         """The grid row where the hanging arm ends: going down the first run of arm rows (a row
         or two may be missing), the last one before the outline steps in by `fingertip_step_mm`
         (the thigh below the fingers), else the run's last row."""
-        o = self.options
-        end = 0
-        while end + 1 < len(rows) and rows[end + 1] - rows[end] <= 2:
-            end += 1
-        run = rows[: end + 1]
-        for k in range(1, len(run)):
-            if edge[run[max(0, k - 3):k]].max() - edge[run[k]] > o.fingertip_step_mm:
-                return int(run[k - 1])
-        return int(run[-1])
+        gaps = np.flatnonzero(np.diff(rows) > 2)
+        run = rows[: gaps[0] + 1] if gaps.size else rows
+        out = edge[run]
+        above = np.full((3, len(run)), -np.inf)  # the outline of each of the three rows above
+        for lag in (1, 2, 3):
+            above[lag - 1, lag:] = out[:-lag]
+        steps = np.flatnonzero(above.max(axis=0) - out > self.options.fingertip_step_mm)
+        return int(run[steps[0] - 1]) if steps.size else int(run[-1])
 
     def _elbow(self, view: _View, shoulder: np.ndarray, hand: np.ndarray) -> Joint | None:
         """The user's cell nearest the middle of shoulder and hand, if it is an upper arm from the
@@ -246,11 +246,13 @@ class SkeletonEstimator:
         o, g = self.options, view.grid
         middle = 0.5 * (shoulder + hand)
         band = _rows(view.rows_y, middle[1] - 150, middle[1] + 150)
-        near = view.mask[band] & (np.abs(g.x[band] - middle[0]) < 150)
+        x = g.x[band]
+        near = view.mask[band] & (np.abs(x - middle[0]) < 150)
         if not near.any():
             return None
-        pts = np.stack([g.x[band][near], g.y[band][near], g.z[band][near]], axis=1)
-        cell = pts[int(np.argmin(np.linalg.norm(pts - middle, axis=1)))] + (0.0, 0.0, o.hand_depth_mm)
+        x, y, z = x[near], g.y[band][near], g.z[band][near]
+        i = int(np.argmin(np.sqrt((x - middle[0]) ** 2 + (y - middle[1]) ** 2 + (z - middle[2]) ** 2)))
+        cell = np.array([x[i], y[i], z[i]], np.float64) + (0.0, 0.0, o.hand_depth_mm)
         lo, hi = o.upper_arm_mm
         upper, fore = np.linalg.norm(cell - shoulder), np.linalg.norm(cell - hand)
         if not (lo <= upper <= hi and lo <= fore <= hi):
@@ -270,11 +272,8 @@ class _View:
 
     @classmethod
     def of(cls, seg: Segment, body: Body, behind_mm: float) -> "_View":
-        rows, cols = np.flatnonzero(seg.mask.any(axis=1)), np.flatnonzero(seg.mask.any(axis=0))
-        box = np.s_[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]
-        g = seg.grid
-        grid = Grid(g.z[box], g.x[box], g.y[box], g.pixel_area_mm2[box], g.cell_x, g.cell_y)
-        mask = seg.mask[box]
+        box = bounding_box(seg.mask)
+        grid, mask = seg.grid.crop(box), seg.mask[box]
         return cls(grid, mask, grid.x - body.torso[0], mask & (grid.z - body.surface_z < behind_mm),
                    _row_heights(grid.y, mask))
 
@@ -296,8 +295,7 @@ def _row_heights(y: np.ndarray, mask: np.ndarray) -> np.ndarray:
     """Each grid row's height in mm (the median over its user cells; NaN for empty rows)."""
     counts = mask.sum(axis=1)
     sums = np.where(mask, y, 0).sum(axis=1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
+    return np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
 
 
 def _vec(a: np.ndarray) -> Vec3:

@@ -8,16 +8,25 @@ anatomy in mm (shoulder-to-hip, crown-to-head-centre), the same for every perfor
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cache
 
 import cv2
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from backends.engine.segmentation import Segment
+from backends.engine.quantiles import median, percentile
+from backends.engine.segmentation import Segment, bounding_box
 from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
 
 
 _HOLE = np.ones((3, 3), np.uint8)
+
+
+@cache
+def _disc(k: int, transposed: bool = False) -> np.ndarray:
+    """The k x k elliptic structuring element, or its transpose (a few sizes recur frame after frame)."""
+    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k, k))
+    return np.ascontiguousarray(disc.T) if transposed else disc
 
 
 class BodyOptions(BaseModel):
@@ -71,23 +80,26 @@ class BodyEstimator:
         o, g, mask = self.options, seg.grid, seg.mask
         if not mask.any():
             return None
-        ref = self._surface_z if self._surface_z is not None else float(np.median(g.z[mask]))
+        ref = self._surface_z if self._surface_z is not None else float(median(g.z[mask]))
         k = max(3, int(round(o.core_width_mm / (g.cell_x * ref))))
-        kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k, k))
+        k_outline = max(3, int(round(o.outline_width_mm / (g.cell_x * ref))))
+        # The openings (and the hole filling before them) reach k // 2 + 2 cells beyond the user:
+        # farther out nothing can change, so all is done on that box (the same result, faster).
+        box = bounding_box(mask, max(k, k_outline) // 2 + 2)
+        g, mask = g.crop(box), mask[box]
         # The trunk's position and depth come from the part near its own plane (an arm held in
         # front would drag them); the shoulder line from the lower of two estimates that an arm
         # can only push up: the top of the outline without its thin parts (an arm across the
         # chest stays inside it), and the crown of the head less the head and neck.
         plane = mask & (g.z > ref - o.plane_band_mm)
-        core = self._open(plane, kernel)
+        core = opened = self._open(plane, k)
         if core.sum() < 4:
             core = plane if plane.any() else mask
-        k_outline = max(3, int(round(o.outline_width_mm / (g.cell_x * ref))))
-        outline = self._open(mask, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k_outline, k_outline)))
+        outline = self._open(mask, k_outline)
         if outline.sum() < 4:
             outline = core
-        centre_x = float(np.median(g.x[core]))
-        shoulder_y = float(np.percentile(g.y[outline], 98)) - o.shoulder_below_core_top_mm
+        centre_x = float(median(g.x[core]))
+        shoulder_y = float(percentile(g.y[outline], 98)) - o.shoulder_below_core_top_mm
         spine_strip = mask & (np.abs(g.x - centre_x) < o.head_radius_mm)
         column = spine_strip & (np.abs(g.z - ref) < o.plane_band_mm)
         crown = self._crown(g.y, column, spine_strip & (g.z <= ref - o.plane_band_mm), o.head_radius_mm)
@@ -107,9 +119,10 @@ class BodyEstimator:
         # The spine's x from the trunk as the camera sees its outline, whatever lies in front of it
         # (each cell's ray at the trunk's depth): an arm across the chest hides part of the trunk
         # and would pull the middle of what is left away from the spine.
-        seen = self._open(mask & (g.z < ref + o.plane_band_mm), kernel) & trunk_rows | trunk
-        tx = float(np.median(g.x[seen] / g.z[seen])) * ref
-        tx, shoulder_y, surface = self._frame(t, np.array([tx, shoulder_y, np.median(g.z[trunk])]))
+        before = mask & (g.z < ref + o.plane_band_mm)  # often the plane itself (nothing in front, nothing behind)
+        seen = (opened if np.array_equal(before, plane) else self._open(before, k)) & trunk_rows | trunk
+        tx = float(median(g.x[seen] / g.z[seen])) * ref
+        tx, shoulder_y, surface = self._frame(t, np.array([tx, shoulder_y, median(g.z[trunk])]))
         self._surface_z = surface
         torso = np.array([tx, shoulder_y - o.spine_below_shoulder_mm, surface + o.joint_depth_mm])
         head_cells = column & (g.y > shoulder_y + 100)
@@ -118,10 +131,12 @@ class BodyEstimator:
         if crown is None or not head_cells.any():
             head = np.array([tx, shoulder_y + o.shoulder_below_crown_mm - o.crown_above_head_mm, torso[2]])
         else:
-            head = np.array([np.median(g.x[head_cells]), crown - o.crown_above_head_mm,
-                             np.median(g.z[head_cells]) + o.joint_depth_mm])
+            head = np.array([median(g.x[head_cells]), crown - o.crown_above_head_mm,
+                             median(g.z[head_cells]) + o.joint_depth_mm])
         head = self._head_filter(t, head)
-        return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface, head[2] - o.joint_depth_mm, core)
+        whole = np.zeros_like(seg.mask)
+        whole[box] = core
+        return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface, head[2] - o.joint_depth_mm, whole)
 
     @staticmethod
     def _top(y: np.ndarray, cells: np.ndarray) -> float | None:
@@ -129,7 +144,7 @@ class BodyEstimator:
         rows = np.flatnonzero(cells.sum(axis=1) >= 2)
         if rows.size == 0:
             return None
-        return float(np.median(y[rows[0]][cells[rows[0]]]))
+        return float(median(y[rows[0]][cells[rows[0]]]))
 
     @classmethod
     def _crown(cls, y: np.ndarray, column: np.ndarray, in_front: np.ndarray, hidden_mm: float) -> float | None:
@@ -143,9 +158,14 @@ class BodyEstimator:
         return crown
 
     @staticmethod
-    def _open(mask: np.ndarray, kernel: np.ndarray) -> np.ndarray:
-        """The cells of `mask` that remain after removing everything thinner than the kernel.
+    def _open(mask: np.ndarray, k: int) -> np.ndarray:
+        """The cells of `mask` that remain after removing everything thinner than a k-cell disc.
         One-cell holes (missing readings, the shadow a depth sensor casts beside an arm) are
-        filled for the shape but left out of the result: they have no depth to take a median of."""
-        filled = cv2.morphologyEx(mask.view(np.uint8), cv2.MORPH_CLOSE, _HOLE)
-        return cv2.morphologyEx(filled, cv2.MORPH_OPEN, kernel).view(bool) & mask
+        filled for the shape but left out of the result: they have no depth to take a median of.
+        A standing body is taller than wide: OpenCV's filters run faster along long rows, so the
+        picture and the disc are transposed then (the same result)."""
+        tall = mask.shape[0] > mask.shape[1]
+        cells = np.ascontiguousarray(mask.T) if tall else mask
+        filled = cv2.morphologyEx(cells.view(np.uint8), cv2.MORPH_CLOSE, _HOLE)
+        opened = cv2.morphologyEx(filled, cv2.MORPH_OPEN, _disc(k, tall)).view(bool)
+        return (opened.T if tall else opened) & mask

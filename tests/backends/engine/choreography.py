@@ -67,6 +67,7 @@ class Performance:
     duration: float
     torso: Callable[[float], np.ndarray] = field(default=lambda t: np.array([0.0, 0.0, 2500.0]))
     mirrored: bool = True
+    lean: float | Callable[[float], float] = 0.0  # degrees the body leans to the side (or at time t)
 
     def frames(self, with_body: bool = True, noise_mm: float = 0.0, seed: int = 0):
         """(t, hands, body) per frame; hand positions are world mm (torso + relative pose)."""
@@ -80,7 +81,9 @@ class Performance:
                 rel = path(t) * np.array([sign, 1.0, 1.0])
                 p = torso + rel + rng.normal(0.0, noise_mm, 3)
                 hands.append(Hand(IDS[side], HandState.TRACKING, tuple(float(c) for c in p), side))
-            body = {"torso": tuple(torso), "head": tuple(torso + np.array([0.0, HEAD_ABOVE_TORSO, 0.0]))}
+            lean = np.radians(self.lean(t) if callable(self.lean) else self.lean)
+            up = np.array([np.sin(lean), np.cos(lean), 0.0])
+            body = {"torso": tuple(torso), "head": tuple(torso + HEAD_ABOVE_TORSO * up)}
             yield t, hands, (body if with_body else {})
 
     def write_csv(self, path: Path, with_body: bool = True) -> Path:
@@ -100,12 +103,28 @@ class Performance:
 RAISED = (250.0, 350.0, -400.0)  # right hand up in front of the shoulder
 
 
-def swipe(travel: float = 500.0, duration: float = 0.5, to_right: bool = False) -> Performance:
-    """The right hand rises, sweeps `travel` mm sideways in `duration` s, holds, drops back."""
+def swipe(travel: float = 500.0, duration: float = 0.5, to_right: bool = False, other_along: float = 0.0) -> Performance:
+    """The right hand rises, sweeps `travel` mm sideways in `duration` s, holds, drops back. With
+    `other_along`, the left hand, held up in front of the body, sweeps that share of the travel the same
+    way at the same time (the arms swinging together as the body turns, balancing a kick)."""
     x0 = RAISED[0] if not to_right else RAISED[0] - travel
     start = (x0, RAISED[1], RAISED[2])
     end = (x0 - travel if not to_right else x0 + travel, RAISED[1], RAISED[2])
     right = rest(Side.RIGHT).hold(0.3).then(0.6, start).hold(0.3).then(duration, end).hold(0.4).then(0.8, REST[Side.RIGHT])
+    left = rest(Side.LEFT)
+    if other_along:
+        along = (end[0] - start[0]) * other_along
+        held = (-250.0, 150.0, -300.0)
+        left = (left.hold(0.3).then(0.6, held).hold(0.3).then(duration, (held[0] + along, held[1], held[2]))
+                .hold(0.4).then(0.8, REST[Side.LEFT]))
+    return Performance({Side.LEFT: left, Side.RIGHT: right}, right.end + 0.5)
+
+
+def swipe_up(travel: float = 550.0, duration: float = 0.4) -> Performance:
+    """The right hand, up in front of the belly, sweeps `travel` mm straight up in front of the chest."""
+    low = (250.0, -50.0, -400.0)
+    right = (rest(Side.RIGHT).hold(0.3).then(0.6, low).hold(0.3).then(duration, (low[0], low[1] + travel, low[2]))
+             .hold(0.4).then(0.8, REST[Side.RIGHT]))
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 
 
@@ -241,15 +260,18 @@ def hands_at_the_eyes(jiggle: float = 60.0, beat: float = 0.15, times: int = 8) 
     return Performance(hands, max(p.end for p in hands.values()) + 0.5)
 
 
-def rise_forward(to: tuple[float, float, float], seconds: float = 0.5, both: bool = False) -> Performance:
-    """From hanging at the side, the right hand (or both, mirrored) arcs up and forward to `to`, holds."""
+def rise_forward(to: tuple[float, float, float], seconds: float = 0.5, both: bool = False,
+                 sink: float = 0.0) -> Performance:
+    """From hanging at the side, the right hand (or both, mirrored) arcs up and forward to `to`, holds;
+    meanwhile the body sinks `sink` mm (a squat) over twice as long."""
     hands = {}
     for side, sign in ((Side.LEFT, -1.0), (Side.RIGHT, 1.0)):
         if side is Side.LEFT and not both:
             hands[side] = rest(side)
             continue
         hands[side] = rest(side).hold(0.4).then(seconds, (sign * to[0], to[1], to[2])).hold(0.8)
-    return Performance(hands, max(getattr(p, "end", 0.0) for p in hands.values()) + 0.5)
+    torso = Path3([(0.0, (0.0, 0.0, 2500.0))]).hold(0.4).then(2 * seconds, (0.0, -sink, 2500.0))
+    return Performance(hands, max(getattr(p, "end", 0.0) for p in hands.values()) + 0.5, torso)
 
 
 def run_in_place(seconds: float = 3.0, swing: float = 450.0, period: float = 0.6) -> Performance:

@@ -150,9 +150,44 @@ def test_a_push_rising_from_a_hanging_hand_is_a_click():
 
 
 def test_arms_rising_forward_together_an_arm_lifted_or_running_arms_are_no_click():
-    assert completed(perform(c.rise_forward((150.0, 200.0, -600.0), both=True))) == []  # squatting
+    squat = c.rise_forward((150.0, 200.0, -600.0), both=True, sink=400.0)
+    assert completed(perform(squat)) == []
+    assert completed(perform(squat, with_body=False)) == []  # without a skeleton, not even if the body stays up
+    assert completed(perform(c.rise_forward((150.0, 200.0, -600.0), both=True), with_body=False)) == []
     assert completed(perform(c.rise_forward((250.0, 350.0, -450.0)))) == []  # lifted more than pushed
     assert "click" not in completed(perform(c.run_in_place()))
+
+
+def test_both_hands_pushing_a_button_from_the_sides_with_the_body_steady_is_a_click():
+    """Kinder-Gator's adult p604 pushes the button with both hands straight from hanging; a skeleton
+    says the body did not sink, so it is no squat."""
+    names = completed(perform(c.rise_forward((150.0, 200.0, -600.0), both=True)))
+    assert names and set(names) == {"click"}
+
+
+def test_arms_swinging_the_same_way_together_are_no_swipe():
+    """The body turning, both arms swinging across to balance a kick (Kinder-Gator, MSRC-12 kicks): the
+    other hand sweeps the same way by 60 % of the sweep. A swipe is made by one hand."""
+    assert completed(perform(c.swipe(to_right=True, other_along=0.6))) == []
+    assert completed(perform(c.swipe(to_right=True, other_along=0.2))) == ["swipe_right"]
+
+
+def test_an_arm_thrown_up_as_the_body_moves_is_no_swipe_up():
+    """Kinder-Gator children kicking a ball throw an arm up as the body leans: the head moves 90-140 mm
+    relative to the torso. A swipe up is the arm's, the body steady."""
+    assert completed(perform(c.swipe_up())) == ["swipe_up"]
+    leaning = c.swipe_up()
+    leaning.lean = lambda t: 14.0 * min(1.0, max(0.0, (t - 1.2) / 0.4))  # the head 125 mm aside during the sweep
+    assert completed(perform(leaning)) == []
+
+
+def test_a_wave_is_made_with_the_body_upright():
+    """Leaning to the side with hands on the hips, bowing or lunging, a hand sways sideways relative to
+    the tilted torso (Kinder-Gator's null motions); real waves lean 12 degrees at most."""
+    upright, leaning = c.wave(), c.wave()
+    upright.lean, leaning.lean = 10.0, 30.0
+    assert completed(perform(upright)) == ["wave"]
+    assert completed(perform(leaning)) == []
 
 
 def test_clapping_is_neither_swipes_nor_a_wave():
