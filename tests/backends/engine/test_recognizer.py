@@ -1,6 +1,7 @@
 """The gesture recogniser on synthetic performances described physically (mm, s)."""
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from pydantic import ValidationError
 
@@ -92,7 +93,8 @@ def test_a_swipe_that_may_be_a_wind_up_waits_for_what_follows_but_is_announced_u
     assert next(e for e in wound if e.state is GestureState.COMPLETE).timestamp >= PUSHED_OUT + 0.3 + rules.swipe_confirm_s
     both = c.push_out()
     right = both.hands[Side.RIGHT]
-    both.hands[Side.LEFT] = lambda t: right(t) - (400.0, 0.0, 0.0)  # the other hand moves along, 40 cm to its left
+    # meanwhile the other hand rises as far as this one goes out (a balancing arm, another gesture)
+    both.hands[Side.LEFT] = lambda t: np.array([-250.0, right(t)[0] - 480.0, -80.0])
     both_events = [e for e in perform(both) if e.state is GestureState.COMPLETE and e.hand_id == c.IDS[Side.RIGHT]]
     assert [e.name for e in both_events] == ["swipe_right"]
     assert both_events[0].timestamp >= PUSHED_OUT + rules.swipe_confirm_s
