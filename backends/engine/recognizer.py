@@ -109,6 +109,7 @@ class _HandTrack:
 
     last: dict[int, Stroke] = field(default_factory=dict)  # per axis: the last stroke judged
     jitter: dict[int, Stroke] = field(default_factory=dict)  # per axis: a reversal too brief to judge, held back
+    settled: dict[int, Sample] = field(default_factory=dict)  # per axis: start of a swipe completed while under way
 
     def __post_init__(self) -> None:
         r = self.rules
@@ -276,6 +277,7 @@ class _Hand:
                     self.click(done)
                 else:
                     self.stroke_ended(done, reversed_)
+        self.swipe_under_way()
         self.resolve_all()
         self.click_under_way()
         self.squat_watched()
@@ -349,12 +351,59 @@ class _Hand:
         r = self.r
         if lowest >= r.active_min_height_mm:
             return True
+        k = self.rec.size(stroke.start)
+        return lowest >= r.swipe_low_min_height_mm * k and self.out_to(stroke, r.swipe_low_min_reach_mm * k)
+
+    def out_to(self, stroke: Stroke, reach_mm: float) -> bool:
+        """Does the sideways `stroke` sweep outwards, ending at least `reach_mm` out from the spine on
+        its hand's own side?"""
         if stroke.axis != X or self.hand.side is Side.UNKNOWN:
             return False
-        k = self.rec.size(stroke.start)
         outwards = (1 if self.hand.side is Side.RIGHT else -1) * (1 if self.mirrored else -1)
-        return (lowest >= r.swipe_low_min_height_mm * k and stroke.direction == outwards
-                and outwards * stroke.end.p[X] >= r.swipe_low_min_reach_mm * k)
+        return stroke.direction == outwards and outwards * stroke.end.p[X] >= reach_mm
+
+    def sure_swipe(self, stroke: Stroke) -> bool:
+        """A swipe that is no wind-up, needing no wait for what follows: it starts from rest (a swipe
+        wound up, or a wave's swing, starts with the hand moving), sweeps outwards into the arm's reach
+        on its own side (no further to go that way; a wind-up for a swipe across the body also ends
+        there, but after the hand swung up or across first), and no other hand moves meanwhile (arms
+        balancing a kick, or spreading together)."""
+        r = self.r
+        k = self.rec.size(stroke.start)
+        start = stroke.start
+        if not self.out_to(stroke, r.swipe_sure_reach_mm * k) or start.t - start.seen_since < r.swipe_rest_s:
+            return False
+        before = [float(q.p[X]) for q in self.tr.samples if start.t - r.swipe_rest_s <= q.t <= start.t]
+        if max(before) - min(before) >= r.swipe_rest_mm * k:
+            return False
+        for other in self.others:
+            during = _during(other, stroke)
+            if during and max(float(np.linalg.norm(q.p - during[0].p)) for q in during) >= (
+                    r.swipe_comparable_ratio * stroke.travel):
+                return False
+        return True
+
+    def swipe_under_way(self) -> None:
+        """A sideways swipe is announced while its stroke is still under way, as soon as it is one; a
+        sure one (`sure_swipe`) completes there once it settles, before the hand has stopped. (A
+        vertical stroke is judged whole, once it ends: one under way may yet drop to rest.)"""
+        current = self.tr.strokes[X].current()
+        if (current is None or len(current.samples) < 2 or self.tr.settled.get(X) is current.start
+                or self.waving(current) or not self.is_swipe(current)):
+            return
+        name, confidence = self.swipe_name(current), self.swipe_confidence(current)
+        self.announce(name, current.start.t, confidence, current.end)
+        settled = current.direction * float(current.end.v[X]) <= self.r.swipe_settle_fraction * current.peak_speed
+        if (settled and X not in self.tr.pending and self.sure_swipe(current)
+                and self.emit(name, GestureState.COMPLETE, confidence, current.end)):
+            self.tr.settled[X] = current.start
+
+    def waving(self, stroke: Stroke) -> bool:
+        """Would `stroke` be the third (or later) of quick alternating strokes: a wave's, never a swipe?"""
+        chain = self.tr.chains[stroke.axis]
+        return (len(chain) >= 2 and chain[-1].direction == -stroke.direction
+                and stroke.start.t - chain[-1].end.t <= self.r.oscillation_max_gap_s
+                and stroke.duration <= self.r.wave_max_stroke_s)
 
     def is_swipe(self, stroke: Stroke) -> bool:
         core = self.core(stroke)
@@ -396,6 +445,14 @@ class _Hand:
                 and stroke.dominance >= self.r.oscillation_min_dominance and stroke.lowest >= self.r.active_min_height_mm
                 and stroke.end.seen_since == stroke.start.seen_since,  # not lost on the way
                 self.r.oscillation_max_gap_s)
+        if self.tr.settled.get(stroke.axis) is stroke.start:  # completed while under way
+            # completing early does not shorten its refractory period (the hand's return is no gesture):
+            # it runs as if the swipe had been confirmed `swipe_confirm_s` after its stroke, as any other
+            self.tr.refractory_until = max(self.tr.refractory_until,
+                                           stroke.end.t + self.r.swipe_confirm_s + self.r.refractory_s)
+            if stroke.axis == X:
+                self.wave(stroke, reversed_)
+            return
         pending = self.tr.pending.pop(stroke.axis, None)
         # a comparable stroke the other way after a pending swipe: a wind-up and the real swipe, or a
         # back-and-forth; either way the first was no swipe. Otherwise the first is confirmed now.
@@ -415,7 +472,12 @@ class _Hand:
         """Complete a swipe once it is clear that no comparable stroke the other way follows it; a
         swipe down only while its hand is in view (see `flush`)."""
         pending = self.tr.pending.get(axis)
-        if pending is None or self.t < pending.end.t + self.r.swipe_confirm_s:
+        if pending is None:
+            return
+        due = pending.end.t + self.r.swipe_confirm_s
+        if self.sure_swipe(pending):  # at once, or when the refractory period ends if sooner than `due`
+            due = min(due, max(pending.end.t, self.tr.refractory_until))
+        if self.t < due:
             return
         if not in_view and _drop(pending):
             return

@@ -70,7 +70,22 @@ class GestureRules(BaseModel):
         "of a drop may be going back there")
     swipe_confirm_s: float = Field(
         0.12, ge=0, description="after a stroke ends, how long to watch whether a comparable stroke the other "
-        "way follows (then the first was a wind-up, or both belong to a wave); this is the swipe's latency")
+        "way follows (then the first was a wind-up, or both belong to a wave); this is the latency of a swipe "
+        "that may be a wind-up (see `swipe_sure_reach_mm`)")
+    swipe_rest_s: float = Field(
+        0.3, ge=0, description="a sideways swipe started from rest when its hand, seen throughout, moved less "
+        "than `swipe_rest_mm` along the swipe's axis over this long before it (a wind-up or a wave's swing "
+        "just before it moved the hand)")
+    swipe_rest_mm: float = Field(
+        150.0, gt=0, description="see `swipe_rest_s` (for an adult, scaled to the performer's size)")
+    swipe_sure_reach_mm: float = Field(
+        350.0, gt=0, description="a sideways swipe from rest, sweeping outwards to at least this far out from "
+        "the spine on its hand's own side (beyond the shoulder, the arm held out), with no other hand moving "
+        "by `swipe_comparable_ratio` of its travel, is no wind-up: it completes without `swipe_confirm_s`, "
+        "as soon as it settles")
+    swipe_settle_fraction: float = Field(
+        0.35, ge=0, le=1, description="such a swipe has settled once its speed along its axis falls below "
+        "this share of its peak (the arm decelerates into its reach: little travel is left)")
     swipe_comparable_ratio: float = Field(
         0.4, gt=0, le=1, description="a following opposite stroke with at least this share of the first's "
         "travel, fast and dominant like a swipe, makes the first a wind-up (or part of a wave); another hand "

@@ -1,6 +1,7 @@
 """`issv gestures FILE.csv`: trajectories in, event lines out (docs/architecture.md formats)."""
 from __future__ import annotations
 
+import copy
 import json
 import subprocess
 
@@ -39,12 +40,15 @@ def test_a_file_that_ends_while_a_swipe_is_confirmed_still_gives_it(tmp_path):
     """The file stops within the swipe's confirmation time: its end completes the swipe."""
     performance = c.swipe()
     recognizer = GestureRecognizer(GestureRules())
-    started = next(t for t, hands, body in performance.frames()
-                   if any(g.state.value == "in_progress" for g in recognizer.update(t, hands, body, True)))
+    for t, hands, body in performance.frames():  # up to the first frame at which the swipe waits
+        assert not [g for g in recognizer.update(t, hands, body, True) if g.state.value == "complete"]
+        if [g for g in copy.deepcopy(recognizer).finish() if g.state.value == "complete"]:
+            waiting = t
+            break
     rows = performance.write_csv(tmp_path / "full.csv").read_text()
     header, *body = rows.splitlines()
     cut = tmp_path / "cut.csv"
-    cut.write_text("\n".join([header] + [r for r in body if float(r.split(",")[0]) <= started + 0.05]) + "\n")
+    cut.write_text("\n".join([header] + [r for r in body if float(r.split(",")[0]) <= waiting + 1e-6]) + "\n")
     run = subprocess.run(["issv", "gestures", str(cut), "--mirrored"], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
     lines = events(run.stdout)

@@ -145,6 +145,24 @@ def low_sweep(outwards: bool = True, height: float = -230.0, travel: float = 550
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 
 
+def push_out(travel: float = 500.0, duration: float = 0.5, windup: float = 0.0,
+             back_after: float | None = None, back_s: float = 0.4) -> Performance:
+    """MSRC-12's "push right": the right hand, held in front of the chest, pushed out sideways
+    `travel` mm in `duration` s to the performer's right (arm held out), held, dropped; after a
+    `windup` mm swing across the body first, if any; brought straight back in front of the chest
+    in `back_s` s, `back_after` s after it got there, if given."""
+    held = (150.0, 250.0, -350.0)
+    out = (held[0] + travel, held[1], held[2])
+    right = rest(Side.RIGHT).hold(0.3).then(0.6, held).hold(0.4)
+    if windup:
+        right = right.then(0.3, (held[0] - windup, held[1], held[2]))
+    right = right.then(duration, out)
+    if back_after is not None:
+        right = right.hold(back_after).then(back_s, held)
+    right = right.hold(0.5).then(0.8, REST[Side.RIGHT])
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
+
+
 def jittered(performance: Performance, side: Side, at: float, jump: tuple[float, float, float], frames: int = 1) -> Performance:
     """The same performance with the tracker's jitter: `side`'s hand reported `jump` mm off for
     `frames` frames from `at` seconds (a skeleton tracker's glitch during fast motion)."""

@@ -1,6 +1,7 @@
 """The gesture recogniser on synthetic performances described physically (mm, s)."""
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from pydantic import ValidationError
 
@@ -54,6 +55,49 @@ def test_the_wind_up_before_a_swipe_is_not_a_swipe_the_other_way():
     events = perform(c.windup_swipe())
     assert completed(events) == ["swipe_left"]
     assert not [e for e in events if e.name == "swipe_right"]
+
+
+PUSHED_OUT = 0.3 + 0.6 + 0.4 + 0.5  # when c.push_out's sweep ends
+
+
+@pytest.mark.parametrize("noise_mm", [0.0, 10.0])
+def test_a_push_out_to_the_side_from_rest_completes_before_the_hand_stops(noise_mm):
+    """Started from rest and ending with the arm held out on its own side, the stroke is no wind-up
+    (MSRC-12's "push right"): it completes as the arm settles into its reach, without waiting
+    `swipe_confirm_s` after the hand stops for a stroke back."""
+    events = perform(c.push_out(), noise_mm=noise_mm)
+    assert completed(events) == ["swipe_right"]
+    announced = next(e for e in events if e.state is GestureState.IN_PROGRESS)
+    done = next(e for e in events if e.state is GestureState.COMPLETE)
+    assert announced.name == "swipe_right" and announced.timestamp < done.timestamp < PUSHED_OUT
+
+
+@pytest.mark.parametrize("back_after", [0.0, 0.1])
+def test_a_push_out_with_the_hand_brought_straight_back_is_one_swipe(back_after):
+    """The return, as long and faster, neither cancels the swipe (it was no wind-up) nor is one."""
+    assert completed(perform(c.push_out(back_after=back_after))) == ["swipe_right"]
+
+
+def test_a_swipe_that_may_be_a_wind_up_waits_for_what_follows_but_is_announced_under_way():
+    """Across the body, after a swing the other way, or with the other hand moving too, a swipe
+    completes only `swipe_confirm_s` after its stroke; its IN_PROGRESS comes while it is under way."""
+    rules = GestureRules()
+    across = perform(c.swipe(travel=500, duration=0.5))  # the right hand to the performer's left
+    swept = 0.3 + 0.6 + 0.3 + 0.5  # when c.swipe's sweep ends
+    announced = next(e for e in across if e.state is GestureState.IN_PROGRESS)
+    done = next(e for e in across if e.state is GestureState.COMPLETE)
+    assert announced.name == done.name == "swipe_left"
+    assert announced.timestamp < swept <= swept + rules.swipe_confirm_s <= done.timestamp
+    wound = perform(c.push_out(windup=250.0))
+    assert completed(wound) == ["swipe_right"]
+    assert next(e for e in wound if e.state is GestureState.COMPLETE).timestamp >= PUSHED_OUT + 0.3 + rules.swipe_confirm_s
+    both = c.push_out()
+    right = both.hands[Side.RIGHT]
+    # meanwhile the other hand rises as far as this one goes out (a balancing arm, another gesture)
+    both.hands[Side.LEFT] = lambda t: np.array([-250.0, right(t)[0] - 480.0, -80.0])
+    both_events = [e for e in perform(both) if e.state is GestureState.COMPLETE and e.hand_id == c.IDS[Side.RIGHT]]
+    assert [e.name for e in both_events] == ["swipe_right"]
+    assert both_events[0].timestamp >= PUSHED_OUT + rules.swipe_confirm_s
 
 
 def test_a_swipe_at_waist_height_sweeping_out_is_a_swipe_one_sweeping_across_the_body_is_not():
@@ -305,16 +349,18 @@ def test_a_push_first_seen_on_its_way_is_a_click(seconds):
 
 
 def test_a_swipe_at_the_very_end_of_a_stream_completes_when_the_stream_ends():
-    """A swipe is confirmed a quarter second after its stroke (nothing comparable followed); a clip
+    """A swipe is confirmed `swipe_confirm_s` after its stroke (nothing comparable followed); a clip
     that stops sooner ends the performance, and `finish()` completes what was waiting, as a hand
     leaving the view does."""
     performance = c.swipe(travel=500, duration=0.5)
-    recognizer = GestureRecognizer(GestureRules())
+    swept = 0.3 + 0.6 + 0.3 + 0.5  # when the sweep ends (see c.swipe)
+    recognizer = GestureRecognizer(GestureRules(swipe_confirm_s=0.25))
     events = []
     for t, hands, body in performance.frames():
         events += recognizer.update(t, hands, body, True)
-        if [e for e in events if e.state is GestureState.IN_PROGRESS]:
-            break  # the clip stops as the stroke ends
+        if t >= swept + 0.15:
+            break  # the clip stops once the stroke has ended (the hand stopped), before its confirmation
+    assert [e.name for e in events if e.state is GestureState.IN_PROGRESS] == ["swipe_left"]
     assert completed(events) == []
     assert completed(recognizer.finish()) == ["swipe_left"]
     assert recognizer.finish() == []  # once: then a new performance
