@@ -374,7 +374,7 @@ class _Hand:
         if not self.out_to(stroke, r.swipe_sure_reach_mm * k) or start.t - start.seen_since < r.swipe_rest_s:
             return False
         before = [float(q.p[X]) for q in self.tr.samples if start.t - r.swipe_rest_s <= q.t <= start.t]
-        if max(before) - min(before) >= r.swipe_rest_mm * k:
+        if not before or max(before) - min(before) >= r.swipe_rest_mm * k:  # none: older than the history kept
             return False
         for other in self.others:
             during = _during(other, stroke)
