@@ -58,6 +58,9 @@ class UdpInbox:
 
     def __init__(self) -> None:
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        # A burst (Pd echoes every message of a bundle as its own datagram) can outrun this thread
+        # while the show holds the GIL; the default 208 KiB buffer then drops datagrams silently.
+        self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4 << 20)
         self.sock.bind(("127.0.0.1", 0))
         self.sock.settimeout(0.05)
         self._stop = threading.Event()
