@@ -7,13 +7,22 @@ overlap between gestures that share a posture (hands raised to the front for win
 and shoot). The classifier answers the other question, "which of these gestures, or none?", from
 the shape of the last WINDOW postures (where the hands were, where they are relative to each
 other, how they moved). It is trained when the gestures are loaded, from the repetitions stored in
-their files: the last (1 - EARLY) of each repetition is that gesture, its beginning and the rest
-pose before it are "none", and every other loaded gesture's repetitions are negatives. Nothing is
+their files: the last (1 - EARLY) of each repetition is that gesture, its beginning, the rest
+pose before it and the rest after it are "none", and every other loaded gesture's repetitions are negatives. Nothing is
 stored: files stay as `issv learn` wrote them, and a set of gestures loaded together is told
 apart by what it contains.
 
-Softmax regression (multinomial logistic regression) on standardised descriptors, fitted with a
-few hundred Adam steps in numpy (bench/learned.py prints how long six gestures take).
+It must also say "none" to motions it never saw. A linear classifier cannot: hands on the head
+(MSRC-12 had_enough) lie beyond hands at the eyes (goggles) along the very direction that tells
+goggles from the other gestures, so it called them goggles all the more (71 of 127 had_enough
+instances of p04-p10 fired goggles). So each gesture is also trained on its own repetitions moved
+up, down, forward and back by more than its teachers vary (`shifted`), as "none", and the
+standardised descriptors get their squares, with which a class can be bounded on both sides of
+each direction: a gesture is a region around where it was taught, not a half-space.
+
+Softmax regression (multinomial logistic regression) on the standardised descriptors and their
+squares, fitted with a few hundred Adam steps in numpy (bench/learned.py prints how long six
+gestures take).
 """
 from __future__ import annotations
 
@@ -25,9 +34,13 @@ WINDOW = 24  # postures looked back (1.6 s at 15 Hz)
 LAG_STEP = 3  # one sample of the window every LAG_STEP postures
 _HISTORY = WINDOW + 4  # the window, the velocity's two steps back and the smoothing's two
 EARLY = 0.5  # the first half of a repetition (and the rest before it) is "none"
+AFTER = WINDOW // 3  # ... and so is the rest after it, from this many postures (0.5 s) on
 L2 = 10.0  # ridge penalty (summed over samples): chosen leave-one-teacher-out on MSRC-12 p01-p03
 STEPS, RATE = 300, 0.05  # Adam steps and learning rate
 EVERY = 2  # train on every EVERY-th posture: neighbours look alike, and it halves the time
+SHIFT_SPREAD = 4.0  # "none": the repetitions moved this many times the spread of their climaxes ...
+SHIFT_MIN = 0.35  # ... and at least this far (body units; goggles to hands on the head: ~0.3 up, ~0.25 back).
+# Both chosen leave-one-teacher-out on MSRC-12 p01-p03 with matcher.AGREE and learner.THRESHOLD_FACTOR
 
 
 def describe(history: np.ndarray) -> np.ndarray:
@@ -79,7 +92,7 @@ class Classifier:
         self.mean, self.scale, self.weights, self.bias = mean, scale, weights, bias
 
     def probabilities(self, descriptor: np.ndarray) -> np.ndarray:
-        s = ((descriptor - self.mean) / self.scale) @ self.weights + self.bias
+        s = _expand((descriptor - self.mean) / self.scale) @ self.weights + self.bias
         e = np.exp(s - s.max(axis=-1, keepdims=True))
         return e / e.sum(axis=-1, keepdims=True)
 
@@ -93,12 +106,43 @@ class Classifier:
                 label = np.full(len(postures), none)
                 label[int(EARLY * len(postures)):] = g
                 still = np.repeat(postures[:1], WINDOW, axis=0)
-                xs += [describe_all(postures)[::EVERY], describe_all(still)[::EVERY]]
-                ys += [label[::EVERY], np.full(WINDOW, none)[::EVERY]]
+                back = describe_all(np.concatenate([postures, np.repeat(postures[-1:], WINDOW, axis=0)]))
+                back = back[len(postures) + AFTER::EVERY]  # back at rest a moment after it: over
+                xs += [describe_all(postures)[::EVERY], describe_all(still)[::EVERY], back]
+                ys += [label[::EVERY], np.full(WINDOW, none)[::EVERY], np.full(len(back), none)]
+            for moved in shifted(reps):
+                xs.append(moved)
+                ys.append(np.full(len(moved), none))
         x, y = np.concatenate(xs), np.concatenate(ys)
         mean, scale = x.mean(axis=0), x.std(axis=0) + 1e-6
-        weights, bias = _fit((x - mean) / scale, y, none + 1)
+        weights, bias = _fit(_expand((x - mean) / scale), y, none + 1)
         return cls(mean, scale, weights, bias)
+
+
+def _expand(z: np.ndarray) -> np.ndarray:
+    """Standardised descriptors and their squares (a class bounded on both sides, see the module doc)."""
+    return np.concatenate([z, 0.5 * z ** 2], axis=-1)
+
+
+def shift_size(reps: list[np.ndarray]) -> float:
+    """How far a gesture's repetitions are moved to be "none": SHIFT_SPREAD times how much the places
+    of their climaxes (hands highest) vary, at least SHIFT_MIN."""
+    tops = np.array([r[np.argmax(r[:, 1] + r[:, 4])] for r in reps])
+    spread = float(np.mean(tops.std(axis=0))) if len(tops) > 1 else 0.0
+    return max(SHIFT_MIN, SHIFT_SPREAD * spread)
+
+
+def shifted(reps: list[np.ndarray]) -> list[np.ndarray]:
+    """Descriptors of the gesture's repetitions (their second half: where the gesture is told) moved,
+    both hands together, up, down, forward and back by `shift_size`: the same motion elsewhere."""
+    size, out = shift_size(reps), []
+    for postures in reps:
+        for axis in (1, 2):
+            for sign in (-1.0, 1.0):
+                offset = np.zeros(6)
+                offset[[axis, axis + 3]] = sign * size
+                out.append(describe_all(postures + offset)[int(EARLY * len(postures))::EVERY * 2])
+    return out
 
 
 def _fit(z: np.ndarray, y: np.ndarray, classes: int) -> tuple[np.ndarray, np.ndarray]:

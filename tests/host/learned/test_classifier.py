@@ -35,3 +35,16 @@ def test_it_tells_the_loaded_gestures_and_rest_apart_for_another_performer(tmp_p
             late = p[int(0.75 * len(rep))]
             assert late.argmax() == g and late[g] > 0.9, late
             assert p[0].argmax() == 2  # the rest before it: none
+
+
+def test_the_same_motion_well_away_from_where_it_was_taught_is_none(tmp_path):
+    """Hands rolling above the head are not the rolling taught in front of the chest: a linear
+    classifier alone would call them the circle all the more (further along the same direction);
+    the repetitions moved beyond the teachers' variety, trained as "none", bound it."""
+    taught = [_repetitions(tmp_path, m, Performer(seed=1)) for m in (circle, punch)]
+    classifier = Classifier.train(taught)
+    for rep in _repetitions(tmp_path, circle, Performer(size_mm=600.0, seed=9)):
+        late = int(0.75 * len(rep))
+        assert classifier.probabilities(describe_all(rep))[late].argmax() == 0
+        above = rep + np.array([0.0, 0.7, 0.0] * 2)  # the whole motion higher: over the head
+        assert classifier.probabilities(describe_all(above))[late][0] < 0.5
