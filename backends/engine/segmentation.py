@@ -29,6 +29,7 @@ SHOULDERS_MM = 400  # the shoulders are within this of the crown (0.18 x height:
 SHOULDERS_TO_HEAD = 1.5  # shoulders are at least this many heads wide (a 5-year-old 1.8, an adult 2.6)
 ABOVE_CROWN_MM = 300  # looked at straight above the crown ...
 BEHIND_MM = 150  # ... for a surface less than this behind it (an own head cut off is ~100 mm behind the chest)
+FLOOR_UNDER = 0.01  # share of the lower cells under a floor still kept: more, and it is looked for afresh
 MAX_COVERED = 0.25  # share of the crown's columns with such a surface above: more, and it is no crown
 
 
@@ -45,10 +46,10 @@ class SegmentationOptions(BaseModel):
     floor_tolerance_mm: float = Field(60, gt=0, description="points this close to the floor plane are floor")
     floor_max_tilt_deg: float = Field(40, gt=0, lt=90, description="how far the floor normal may lean from the camera's up")
     floor_min_span_mm: float = Field(1000, gt=0, description="a floor is at least this wide (a seated lap is not)")
-    floor_every: int = Field(1, ge=1, description=(
-        "a floor found is kept for this many frames, then looked for afresh (while none is found, it is "
-        "looked for in every frame): 10 saves about a tenth of the tracking time with a camera that "
-        "stands still, but finds someone walking in over a floor seen at first a frame or two later"))
+    floor_every: int = Field(30, ge=1, description=(
+        "a floor found is kept while it still fits (as many cells on it as when looking for one, "
+        "next to none under it), for at most this many frames, then looked for afresh (while none "
+        "is found, in every frame); 1 looks for it in every frame"))
     min_user_area_m2: float = Field(0.08, gt=0, description="frontal area of the smallest user (a head and shoulders)")
     min_user_height_mm: float = Field(450, gt=0)
     min_cut_user_height_mm: float = Field(250, gt=0, description=(
@@ -181,34 +182,48 @@ class Segmenter:
 
     # -- floor -------------------------------------------------------------------------------
     def _floor_mask(self, g: Grid, valid: np.ndarray) -> np.ndarray:
-        if self._plane is None or self._floor_age >= self.options.floor_every:
+        """The cells on the floor. A floor that still fits is kept (for up to `floor_every`
+        frames): the search is the dearest step of segmenting, and a camera mostly stands still."""
+        o = self.options
+        height = None if self._plane is None else _height(g, self._plane)
+        if height is None or self._floor_age >= o.floor_every or not self._fits(height, valid):
             self._plane, self._floor_age = self._find_floor(g, valid), 0
-            if self._plane is not None:
-                self._floor = self._plane
+            if self._plane is None:
+                return np.zeros_like(valid)
+            self._floor = self._plane
+            height = _height(g, self._plane)
         self._floor_age += 1
-        plane = self._plane
-        if plane is None:
-            return np.zeros_like(valid)
-        height = g.x * plane[0] + g.y * plane[1] + g.z * plane[2] + plane[3]
-        return valid & (height < self.options.floor_tolerance_mm + 0.01 * g.z)
+        return valid & (height < o.floor_tolerance_mm + 0.01 * g.z)
+
+    def _fits(self, height: np.ndarray, valid: np.ndarray) -> bool:
+        """Whether the floor still lies where it was found: as many of the lower cells on it as
+        a floor found needs, and (almost) none under it (else the camera moved, or it never was
+        the floor)."""
+        tolerance = self.options.floor_tolerance_mm
+        third = valid.shape[0] // 3
+        h, lower = height[third:], valid[third:]
+        cells = np.count_nonzero(lower)
+        on = np.count_nonzero(lower & (np.abs(h) < tolerance))
+        under = np.count_nonzero(lower & (h < -tolerance))
+        return cells >= 50 and on >= max(30, 0.1 * cells) and under <= FLOOR_UNDER * cells
 
     def _find_floor(self, g: Grid, valid: np.ndarray, samples: int = 600, hypotheses: int = 48) -> np.ndarray | None:
         """RANSAC among near-horizontal planes with most points above them; the last floor competes too."""
         o = self.options
-        lower = valid.copy()
-        lower[: valid.shape[0] // 3] = False  # the floor shows in the lower part of a level camera's view
-        idx = np.flatnonzero(lower)
+        third = valid.shape[0] // 3  # the floor shows in the lower part of a level camera's view
+        idx = np.flatnonzero(valid[third:]) + third * valid.shape[1]
         if idx.size < 50:
             return None
         idx = self._rng.choice(idx, size=min(samples, idx.size), replace=False)
         pts = np.stack([g.x.flat[idx], g.y.flat[idx], g.z.flat[idx]], axis=1).astype(np.float64)
         tri = pts[self._rng.integers(0, len(pts), size=(hypotheses, 3))]
-        n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-        norm = np.linalg.norm(n, axis=1)
+        a = tri[:, 0]
+        n = _cross(tri[:, 1] - a, tri[:, 2] - a)
+        norm = np.sqrt(np.einsum("ij,ij->i", n, n))
         ok = norm > 1e-6
         n = n[ok] / norm[ok, None]
-        n *= np.sign(n[:, 1:2]) + (n[:, 1:2] == 0)  # normals point up
-        d = -np.einsum("ij,ij->i", n, tri[ok, 0])
+        n *= np.where(n[:, 1:2] < 0, -1.0, 1.0)  # normals point up
+        d = -np.einsum("ij,ij->i", n, a[ok])
         planes = np.concatenate([n, d[:, None]], axis=1)
         if self._floor is not None:
             planes = np.vstack([planes, self._floor])
@@ -251,6 +266,7 @@ class Segmenter:
         keep[1:, :] &= ~(both_y & (dy > thr[:-1, :]))
         keep[:-1, :] &= ~(both_y & (-dy > thr[1:, :]))
         _, labels, stats, _ = cv2.connectedComponentsWithStats(keep.view(np.uint8), connectivity=4)
+        stats[:, cv2.CC_STAT_AREA] -= np.bincount(labels[bridge], minlength=len(stats))  # the surfaces' own cells
         labels[bridge] = 0
         return labels, stats
 
@@ -321,18 +337,18 @@ class Segmenter:
         if count <= 1:
             return []
         flat = labels.ravel()
-        area = np.bincount(flat, weights=g.pixel_area_mm2.ravel(), minlength=count)
-        area[0] = 0
-        n = np.maximum(np.bincount(flat, minlength=count), 1)  # cells per surface (with readings)
+        n = np.maximum(stats[:, cv2.CC_STAT_AREA], 1)  # cells per surface (with readings)
         z = g.z.astype(np.float64).ravel()
-        mean = [np.bincount(flat, weights=c, minlength=count) / n for c in (g.x.ravel(), g.y.ravel(), z)]
-        zz = np.bincount(flat, weights=z * z, minlength=count) / n
-        spread = np.sqrt(np.maximum(zz - mean[2] ** 2, 0))
-        ext_w = stats[:, cv2.CC_STAT_WIDTH] * g.cell_x * mean[2]  # bounding box in mm at the mean depth
-        ext_h = stats[:, cv2.CC_STAT_HEIGHT] * g.cell_y * mean[2]
+        mean_z = np.bincount(flat, weights=z, minlength=count) / n
+        zz = np.bincount(flat, weights=z * z, minlength=count)
+        area = zz * (g.cell_x * g.cell_y)  # a cell covers its depth squared times its solid angle
+        area[0] = 0
+        spread = np.sqrt(np.maximum(zz / n - mean_z ** 2, 0))
+        ext_w = stats[:, cv2.CC_STAT_WIDTH] * g.cell_x * mean_z  # bounding box in mm at the mean depth
+        ext_h = stats[:, cv2.CC_STAT_HEIGHT] * g.cell_y * mean_z
         person = ((area >= o.min_user_area_m2 * 1e6)
                   & (ext_w <= o.max_user_width_mm) & (spread <= o.max_user_depth_spread_mm)
-                  & (mean[2] >= o.min_distance_mm) & (mean[2] <= o.max_distance_mm))
+                  & (mean_z >= o.min_distance_mm) & (mean_z <= o.max_distance_mm))
         person[0] = False
         tall = ext_h >= o.min_user_height_mm
         top, bottom = stats[:, cv2.CC_STAT_TOP], stats[:, cv2.CC_STAT_TOP] + stats[:, cv2.CC_STAT_HEIGHT]
@@ -343,25 +359,47 @@ class Segmenter:
             return []
         sized = person.copy()
         for k in np.flatnonzero(sized):
-            person[k] = self._enclosed(g, labels, sized, stats[k], k, mean[2][k]) <= o.max_enclosed
+            person[k] = self._enclosed(g, labels, sized, stats[k], k, mean_z[k]) <= o.max_enclosed
         if not person.any():
             return []
-        rank = mean[2].copy()
+        rank = mean_z.copy()
         if stay and self._last_mask is not None and self._last_mask.shape == labels.shape:
             overlap = np.bincount(flat[self._last_mask.ravel()], minlength=count) / n
             rank -= 2000.0 * (overlap > 0.3)  # stay on the same person while they are there
         rank[~person] = np.inf
         people = np.argsort(rank)[:min(o.max_people, int(person.sum()))]
-        centres = np.stack(mean, axis=1)
         # Detached parts: within reach of a person and not behind them; each joins the nearest.
+        part = (area >= o.min_part_area_m2 * 1e6) & (area <= o.max_part_area_m2 * 1e6) & ~person
+        part[0] = False
+        centres = _centres(g, flat, person | part, n, mean_z)
         offsets = centres[:, None, :] - centres[None, people, :]  # (surface, person, xyz)
         distance = np.linalg.norm(offsets, axis=2)
         within = (distance <= o.reach_mm) & (offsets[:, :, 2] < 150)
-        part = ((area >= o.min_part_area_m2 * 1e6) & (area <= o.max_part_area_m2 * 1e6) & ~person
-                & within.any(axis=1))
-        part[0] = False
+        part &= within.any(axis=1)
         owner = np.full(count, -1)
         owner[part] = np.argmin(np.where(within, distance, np.inf), axis=1)[part]
         owner[people] = np.arange(len(people))
         owned = owner[labels]
         return [(owned == k, centres[p]) for k, p in enumerate(people)]
+
+
+def _height(g: Grid, plane: np.ndarray) -> np.ndarray:
+    """Each cell's height above the plane (mm), in the grid's float32."""
+    nx, ny, nz, d = (float(v) for v in plane)
+    return g.x * nx + g.y * ny + g.z * nz + d
+
+
+def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of (n, 3) arrays (np.cross costs more than the arithmetic on a few dozen rows)."""
+    return np.stack([u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1],
+                     u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2],
+                     u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]], axis=1)
+
+
+def _centres(g: Grid, flat: np.ndarray, needed: np.ndarray, n: np.ndarray, mean_z: np.ndarray) -> np.ndarray:
+    """(surface, xyz): the mean position of the `needed` surfaces (people and parts), zeros for
+    the rest; summed over their cells alone (the walls and the floor are most of the picture)."""
+    cells = needed[flat]
+    own = flat[cells]
+    x, y = (np.bincount(own, weights=c.ravel()[cells], minlength=len(n)) / n for c in (g.x, g.y))
+    return np.stack([x, y, mean_z], axis=1)
