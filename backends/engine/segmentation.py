@@ -253,18 +253,13 @@ class Segmenter:
         """
         z = np.where(valid, g.z, 0)
         bridge = ~valid & cv2.morphologyEx(valid.view(np.uint8), cv2.MORPH_CLOSE, ONE_CELL_GAP).view(bool)
-        z = np.where(bridge, cv2.dilate(z, ONE_CELL_GAP), z)
+        np.copyto(z, cv2.dilate(z, ONE_CELL_GAP), where=bridge)
         valid = valid | bridge
-        thr = self.options.edge_mm + self.options.edge_ratio * z
-        keep = valid.copy()
-        dx = z[:, 1:] - z[:, :-1]
-        dy = z[1:, :] - z[:-1, :]
-        both_x = valid[:, 1:] & valid[:, :-1]
-        both_y = valid[1:, :] & valid[:-1, :]
-        keep[:, 1:] &= ~(both_x & (dx > thr[:, :-1]))
-        keep[:, :-1] &= ~(both_x & (-dx > thr[:, 1:]))
-        keep[1:, :] &= ~(both_y & (dy > thr[:-1, :]))
-        keep[:-1, :] &= ~(both_y & (-dy > thr[1:, :]))
+        # A cell is cut when a neighbour is nearer by more than the threshold at the neighbour's
+        # depth: z - n > edge + ratio * n, i.e. the nearest neighbour n < (z - edge) / (1 + ratio).
+        nearest = cv2.erode(np.where(valid, z, np.float32(np.inf)), ONE_CELL_GAP)
+        o = self.options
+        keep = valid & ~(nearest < (z - np.float32(o.edge_mm)) / np.float32(1 + o.edge_ratio))
         _, labels, stats, _ = cv2.connectedComponentsWithStats(keep.view(np.uint8), connectivity=4)
         stats[:, cv2.CC_STAT_AREA] -= np.bincount(labels[bridge], minlength=len(stats))  # the surfaces' own cells
         labels[bridge] = 0
