@@ -98,11 +98,10 @@ class Grid:
 def bounding_box(mask: np.ndarray, margin: int = 0) -> tuple[slice, slice] | None:
     """The rows and columns holding `mask`'s cells, `margin` cells wider on each side (within the
     array); None for an empty mask."""
-    rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
-    if rows.size == 0:
+    x, y, w, h = cv2.boundingRect(mask.view(np.uint8))
+    if w == 0:
         return None
-    return (slice(max(0, rows[0] - margin), rows[-1] + margin + 1),
-            slice(max(0, cols[0] - margin), cols[-1] + margin + 1))
+    return slice(max(0, y - margin), y + h + margin), slice(max(0, x - margin), x + w + margin)
 
 
 @dataclass(frozen=True)
@@ -174,9 +173,9 @@ class Segmenter:
         for mask, centre in found:
             mask = self._with_rim(g, mask, cut)
             cut &= ~mask  # a rim cell is one person's
-            rows = np.flatnonzero(mask.any(axis=1))
-            top = float(np.max(g.y[rows[0]][mask[rows[0]]]))
-            out.append(Person(Segment(mask, g), centre, top, int(mask.sum())))
+            first = bounding_box(mask)[0].start
+            top = float(np.max(g.y[first][mask[first]]))
+            out.append(Person(Segment(mask, g), centre, top, np.count_nonzero(mask)))
         self._last_mask = out[0].segment.mask if out else None
         return out
 
@@ -287,7 +286,7 @@ class Segmenter:
         ring = cv2.dilate(mask.view(np.uint8), RING).view(bool) & ~mask & (window > 0)
         z = g.z[y0:y + h + 2, x0:x + w + 2]
         nearer = ring & sized[window] & (z < depth - self.options.edge_mm - self.options.edge_ratio * depth)
-        return float(nearer.sum()) / max(1, int(ring.sum()))
+        return np.count_nonzero(nearer) / max(1, np.count_nonzero(ring))
 
     def _head_and_shoulders(self, g: Grid, labels: np.ndarray, box: np.ndarray, k: int) -> bool:
         """Whether surface `k`, cut off by the picture's bottom, is someone close to the camera:
@@ -362,7 +361,7 @@ class Segmenter:
             overlap = np.bincount(flat[self._last_mask.ravel()], minlength=count) / n
             rank -= 2000.0 * (overlap > 0.3)  # stay on the same person while they are there
         rank[~person] = np.inf
-        people = np.argsort(rank)[:min(o.max_people, int(person.sum()))]
+        people = np.argsort(rank)[:min(o.max_people, np.count_nonzero(person))]
         # Detached parts: within reach of a person and not behind them; each joins the nearest.
         part = (area >= o.min_part_area_m2 * 1e6) & (area <= o.max_part_area_m2 * 1e6) & ~person
         part[0] = False

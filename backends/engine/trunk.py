@@ -93,10 +93,10 @@ class BodyEstimator:
         # chest stays inside it), and the crown of the head less the head and neck.
         plane = mask & (g.z > ref - o.plane_band_mm)
         core = opened = self._open(plane, k)
-        if core.sum() < 4:
+        if np.count_nonzero(core) < 4:
             core = plane if plane.any() else mask
         outline = self._open(mask, k_outline)
-        if outline.sum() < 4:
+        if np.count_nonzero(outline) < 4:
             outline = core
         centre_x = float(median(g.x[core]))
         shoulder_y = float(percentile(g.y[outline], 98)) - o.shoulder_below_core_top_mm
