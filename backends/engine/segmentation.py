@@ -330,7 +330,7 @@ class Segmenter:
         count = len(stats)
         if count <= 1:
             return []
-        flat = labels.ravel()
+        flat = labels.ravel().astype(np.intp)  # bincount's index type: converted once for all of them
         n = np.maximum(stats[:, cv2.CC_STAT_AREA], 1)  # cells per surface (with readings)
         z = g.z.astype(np.float64).ravel()
         mean_z = np.bincount(flat, weights=z, minlength=count) / n
@@ -365,7 +365,8 @@ class Segmenter:
         # Detached parts: within reach of a person and not behind them; each joins the nearest.
         part = (area >= o.min_part_area_m2 * 1e6) & (area <= o.max_part_area_m2 * 1e6) & ~person
         part[0] = False
-        centres = _centres(g, flat, person | part, n, mean_z)
+        centres = np.stack([np.bincount(flat, weights=g.x.ravel(), minlength=count) / n,
+                            np.bincount(flat, weights=g.y.ravel(), minlength=count) / n, mean_z], axis=1)
         offsets = centres[:, None, :] - centres[None, people, :]  # (surface, person, xyz)
         distance = np.linalg.norm(offsets, axis=2)
         within = (distance <= o.reach_mm) & (offsets[:, :, 2] < 150)
@@ -373,7 +374,7 @@ class Segmenter:
         owner = np.full(count, -1)
         owner[part] = np.argmin(np.where(within, distance, np.inf), axis=1)[part]
         owner[people] = np.arange(len(people))
-        owned = owner[labels]
+        owned = owner.take(labels)
         return [(owned == k, centres[p]) for k, p in enumerate(people)]
 
 
@@ -388,12 +389,3 @@ def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     return np.stack([u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1],
                      u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2],
                      u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]], axis=1)
-
-
-def _centres(g: Grid, flat: np.ndarray, needed: np.ndarray, n: np.ndarray, mean_z: np.ndarray) -> np.ndarray:
-    """(surface, xyz): the mean position of the `needed` surfaces (people and parts), zeros for
-    the rest; summed over their cells alone (the walls and the floor are most of the picture)."""
-    cells = needed[flat]
-    own = flat[cells]
-    x, y = (np.bincount(own, weights=c.ravel()[cells], minlength=len(n)) / n for c in (g.x, g.y))
-    return np.stack([x, y, mean_z], axis=1)
