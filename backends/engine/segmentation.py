@@ -166,8 +166,8 @@ class Segmenter:
         valid = g.z > 0
         if self.options.floor:
             valid &= ~self._floor_mask(g, valid)
-        labels, stats = self._surfaces(g, valid)
-        found = self._pick_people(g, labels, stats, stay)
+        count, labels = self._surfaces(g, valid)
+        found = self._pick_people(g, labels, count, stay)
         cut = valid & (labels == 0)
         out = []
         for mask, centre in found:
@@ -242,8 +242,8 @@ class Segmenter:
         return planes[best] if span >= o.floor_min_span_mm else None
 
     # -- surfaces and the user ---------------------------------------------------------------
-    def _surfaces(self, g: Grid, valid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Connected surfaces: 4-neighbours whose depths differ by less than the edge threshold.
+    def _surfaces(self, g: Grid, valid: np.ndarray) -> tuple[int, np.ndarray]:
+        """How many labels, and the label image of the connected surfaces: 4-neighbours whose depths differ by less than the edge threshold.
 
         Only the far side of a jump is cut, so the near surface (the user) keeps its outline. A cell
         without a reading between two with readings (a sensor's dropped reading, a row lost in
@@ -259,10 +259,9 @@ class Segmenter:
         nearest = cv2.erode(np.where(valid, z, np.float32(np.inf)), ONE_CELL_GAP)
         o = self.options
         keep = valid & ~(nearest < (z - np.float32(o.edge_mm)) / np.float32(1 + o.edge_ratio))
-        _, labels, stats, _ = cv2.connectedComponentsWithStats(keep.view(np.uint8), connectivity=4)
-        stats[:, cv2.CC_STAT_AREA] -= np.bincount(labels[bridge], minlength=len(stats))  # the surfaces' own cells
+        count, labels = cv2.connectedComponents(keep.view(np.uint8), connectivity=4)
         labels[bridge] = 0
-        return labels, stats
+        return count, labels
 
     def _with_rim(self, g: Grid, mask: np.ndarray, cut: np.ndarray) -> np.ndarray:
         """Give back the user's cells that were cut as the far side of a jump onto the user itself
@@ -323,37 +322,37 @@ class Segmenter:
                 & (z > 0) & (z < depth + BEHIND_MM))
         return float(over.any(axis=0).mean()) <= MAX_COVERED
 
-    def _pick_people(self, g: Grid, labels: np.ndarray, stats: np.ndarray,
+    def _pick_people(self, g: Grid, labels: np.ndarray, count: int,
                      stay: bool) -> list[tuple[np.ndarray, np.ndarray]]:
         """(mask, centre of the main surface) per person, nearest first."""
         o = self.options
-        count = len(stats)
         if count <= 1:
             return []
         flat = labels.ravel().astype(np.intp)  # bincount's index type: converted once for all of them
-        n = np.maximum(stats[:, cv2.CC_STAT_AREA], 1)  # cells per surface (with readings)
+        n = np.maximum(np.bincount(flat, minlength=count), 1)  # cells per surface (with readings)
         z = g.z.astype(np.float64).ravel()
         mean_z = np.bincount(flat, weights=z, minlength=count) / n
         zz = np.bincount(flat, weights=z * z, minlength=count)
         area = zz * (g.cell_x * g.cell_y)  # a cell covers its depth squared times its solid angle
         area[0] = 0
         spread = np.sqrt(np.maximum(zz / n - mean_z ** 2, 0))
-        ext_w = stats[:, cv2.CC_STAT_WIDTH] * g.cell_x * mean_z  # bounding box in mm at the mean depth
-        ext_h = stats[:, cv2.CC_STAT_HEIGHT] * g.cell_y * mean_z
-        person = ((area >= o.min_user_area_m2 * 1e6)
-                  & (ext_w <= o.max_user_width_mm) & (spread <= o.max_user_depth_spread_mm)
+        person = ((area >= o.min_user_area_m2 * 1e6) & (spread <= o.max_user_depth_spread_mm)
                   & (mean_z >= o.min_distance_mm) & (mean_z <= o.max_distance_mm))
         person[0] = False
+        boxes = _boxes(labels, person)
+        ext_w = boxes[:, 2] * g.cell_x * mean_z  # bounding box in mm at the mean depth
+        ext_h = boxes[:, 3] * g.cell_y * mean_z
+        person &= ext_w <= o.max_user_width_mm
         tall = ext_h >= o.min_user_height_mm
-        top, bottom = stats[:, cv2.CC_STAT_TOP], stats[:, cv2.CC_STAT_TOP] + stats[:, cv2.CC_STAT_HEIGHT]
+        top, bottom = boxes[:, 1], boxes[:, 1] + boxes[:, 3]
         for k in np.flatnonzero(person & ~tall & (bottom >= labels.shape[0]) & (top > 0)):
-            tall[k] = self._head_and_shoulders(g, labels, stats[k], k)
+            tall[k] = self._head_and_shoulders(g, labels, boxes[k], k)
         person &= tall
         if not person.any():
             return []
         sized = person.copy()
         for k in np.flatnonzero(sized):
-            person[k] = self._enclosed(g, labels, sized, stats[k], k, mean_z[k]) <= o.max_enclosed
+            person[k] = self._enclosed(g, labels, sized, boxes[k], k, mean_z[k]) <= o.max_enclosed
         if not person.any():
             return []
         rank = mean_z.copy()
@@ -376,6 +375,15 @@ class Segmenter:
         owner[people] = np.arange(len(people))
         owned = owner.take(labels)
         return [(owned == k, centres[p]) for k, p in enumerate(people)]
+
+
+def _boxes(labels: np.ndarray, which: np.ndarray) -> np.ndarray:
+    """(label, (x, y, w, h)): the bounding boxes of the labels in `which`, zeros for the rest (only
+    the few surfaces that could be people need one)."""
+    boxes = np.zeros((len(which), 4), np.int64)
+    for k in np.flatnonzero(which):
+        boxes[k] = cv2.boundingRect((labels == k).view(np.uint8))
+    return boxes
 
 
 def _height(g: Grid, plane: np.ndarray) -> np.ndarray:
