@@ -250,7 +250,7 @@ class Segmenter:
         rescaling) bridges them at the farther one's depth, so a line of holes does not cut a person
         in two; bridges join surfaces but are not part of them.
         """
-        z = np.where(valid, g.z, 0)
+        z = g.z * valid
         bridge = ~valid & cv2.morphologyEx(valid.view(np.uint8), cv2.MORPH_CLOSE, ONE_CELL_GAP).view(bool)
         np.copyto(z, cv2.dilate(z, ONE_CELL_GAP), where=bridge)
         valid = valid | bridge
