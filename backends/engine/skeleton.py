@@ -274,7 +274,7 @@ class _View:
     def of(cls, seg: Segment, body: Body, behind_mm: float) -> "_View":
         box = bounding_box(seg.mask)
         grid, mask = seg.grid.crop(box), seg.mask[box]
-        return cls(grid, mask, grid.x - body.torso[0], mask & (grid.z - body.surface_z < behind_mm),
+        return cls(grid, mask, grid.x - float(body.torso[0]), mask & (grid.z - body.surface_z < behind_mm),
                    _row_heights(grid.y, mask))
 
 

@@ -123,7 +123,7 @@ class BodyEstimator:
         before = mask & (g.z < ref + o.plane_band_mm)  # often the plane itself (nothing in front, nothing behind)
         seen = (opened if np.array_equal(before, plane) else self._open(before, k, pad)) & trunk_rows | trunk
         tx = float(median(g.x[seen] / g.z[seen])) * ref
-        tx, shoulder_y, surface = self._frame(t, np.array([tx, shoulder_y, median(g.z[trunk])]))
+        tx, shoulder_y, surface = self._frame(t, np.array([tx, shoulder_y, median(g.z[trunk])])).tolist()
         self._surface_z = surface
         torso = np.array([tx, shoulder_y - o.spine_below_shoulder_mm, surface + o.joint_depth_mm])
         head_cells = column & (g.y > shoulder_y + 100)
@@ -137,7 +137,7 @@ class BodyEstimator:
         head = self._head_filter(t, head)
         whole = np.zeros_like(seg.mask)
         whole[box] = core
-        return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface, head[2] - o.joint_depth_mm, whole)
+        return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface, float(head[2]) - o.joint_depth_mm, whole)
 
     @staticmethod
     def _top(y: np.ndarray, cells: np.ndarray) -> float | None:
