@@ -267,10 +267,11 @@ class Segmenter:
         """Give back the user's cells that were cut as the far side of a jump onto the user itself
         (the chest behind an arm held across it); the far background stays out."""
         box = bounding_box(mask, 1)  # the rim is one cell around the user
-        near = cv2.dilate(mask[box].view(np.uint8), np.ones((3, 3), np.uint8)).view(bool)
-        depth = float(median(g.z[mask]))
+        own, z = mask[box], g.z[box]
+        near = cv2.dilate(own.view(np.uint8), np.ones((3, 3), np.uint8)).view(bool)
+        depth = float(median(z[own]))
         out = mask.copy()
-        out[box] |= near & cut[box] & (np.abs(g.z[box] - depth) < self.options.rim_depth_mm)
+        out[box] |= near & cut[box] & (np.abs(z - depth) < self.options.rim_depth_mm)
         return out
 
     def _enclosed(self, g: Grid, labels: np.ndarray, sized: np.ndarray, box: np.ndarray, k: int,
