@@ -83,10 +83,12 @@ class BodyEstimator:
         ref = self._surface_z if self._surface_z is not None else float(median(g.z[mask]))
         k = max(3, int(round(o.core_width_mm / (g.cell_x * ref))))
         k_outline = max(3, int(round(o.outline_width_mm / (g.cell_x * ref))))
-        # All is done on the user's box (the same result, faster); the openings see it padded
-        # with as many empty cells as they reach beyond it (where the grid goes on).
+        # All is done on the user's box (the same result as on the whole grid, faster); the
+        # openings see it padded with two empty cells where the grid goes on: the hole filling
+        # reaches one cell beyond the user, the erosion needs one empty cell beyond to eat into
+        # the user from that side, and an opening never grows past what it opens.
         box = bounding_box(mask)
-        pad = _padding(box, mask.shape, max(k, k_outline) // 2 + 2)
+        pad = _padding(box, mask.shape, 2)
         g, mask = g.crop(box), mask[box]
         # The trunk's position and depth come from the part near its own plane (an arm held in
         # front would drag them); the shoulder line from the lower of two estimates that an arm
