@@ -12,6 +12,7 @@ Who is who from frame to frame is people.py's job; the segmenter only finds them
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import cv2
@@ -138,8 +139,9 @@ class Segmenter:
     def grid(self, depth: DepthFrame) -> Grid:
         o = self.options
         step = max(1, round(depth.width / o.grid_width))
-        z = depth.data[::step, ::step].astype(np.float32)
-        z[(z < o.near_mm) | (z > o.far_mm)] = 0
+        cells = np.ascontiguousarray(depth.data[::step, ::step])
+        readings = cv2.inRange(cells, math.ceil(o.near_mm), math.floor(o.far_mm)) != 0  # readings are whole mm
+        z = cells.astype(np.float32) * readings
         gx, gy, cell = self._ray_grid(depth, step, z.shape)
         i = depth.intrinsics
         return Grid(z, z * gx, z * gy, (z * z) * cell, step / i.fx, step / i.fy)
