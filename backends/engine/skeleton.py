@@ -294,7 +294,7 @@ def _rows(rows_y: np.ndarray, low: float, high: float) -> slice:
 def _row_heights(y: np.ndarray, mask: np.ndarray) -> np.ndarray:
     """Each grid row's height in mm (the mean over its user cells; NaN for empty rows)."""
     counts = np.count_nonzero(mask, axis=1)
-    sums = np.where(mask, y, 0).sum(axis=1)
+    sums = (y * mask).sum(axis=1)
     return np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
 
 
