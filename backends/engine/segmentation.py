@@ -286,9 +286,9 @@ class Segmenter:
         window = labels[y0:y + h + 2, x0:x + w + 2]
         mask = window == k
         ring = cv2.dilate(mask.view(np.uint8), RING).view(bool) & ~mask & (window > 0)
-        z = g.z[y0:y + h + 2, x0:x + w + 2]
-        nearer = ring & sized[window] & (z < depth - self.options.edge_mm - self.options.edge_ratio * depth)
-        return np.count_nonzero(nearer) / max(1, np.count_nonzero(ring))
+        around, z = window[ring], g.z[y0:y + h + 2, x0:x + w + 2][ring]
+        nearer = sized[around] & (z < depth - self.options.edge_mm - self.options.edge_ratio * depth)
+        return np.count_nonzero(nearer) / max(1, around.size)
 
     def _head_and_shoulders(self, g: Grid, labels: np.ndarray, box: np.ndarray, k: int) -> bool:
         """Whether surface `k`, cut off by the picture's bottom, is someone close to the camera:
