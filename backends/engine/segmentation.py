@@ -245,7 +245,8 @@ class Segmenter:
 
     # -- surfaces and the user ---------------------------------------------------------------
     def _surfaces(self, g: Grid, valid: np.ndarray) -> tuple[int, np.ndarray]:
-        """How many labels, and the label image of the connected surfaces: 4-neighbours whose depths differ by less than the edge threshold.
+        """How many labels, and the label image of the connected surfaces: 4-neighbours whose depths
+        differ by less than the edge threshold.
 
         Only the far side of a jump is cut, so the near surface (the user) keeps its outline. A cell
         without a reading between two with readings (a sensor's dropped reading, a row lost in

@@ -139,7 +139,8 @@ class BodyEstimator:
         head = self._head_filter(t, head)
         whole = np.zeros_like(seg.mask)
         whole[box] = core
-        return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface, float(head[2]) - o.joint_depth_mm, whole)
+        return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface,
+                    float(head[2]) - o.joint_depth_mm, whole)
 
     @staticmethod
     def _top(y: np.ndarray, cells: np.ndarray) -> float | None:
