@@ -59,11 +59,12 @@ class SegmentationOptions(BaseModel):
     min_user_height_mm: float = Field(450, gt=0)
     min_whole_user_height_mm: float = Field(900, gt=0, description=(
         "a surface this tall, cell to cell, may be a whole person whatever is under it (a squatting "
-        "adult, a small child; a clip with the background removed); a shorter one ..."))
+        "adult, a small child; a clip with its background removed); a shorter one must stand on "
+        "something (max_gap_below_mm)"))
     max_gap_below_mm: float = Field(500, gt=0, description=(
-        "... has a reading (legs, the floor, what hides them) within this under its lowest cells, "
-        "or the picture ends there: a gap without readings this tall is no sensor shadow, and "
-        "nobody floats (a shelf over a dark cabinet)"))
+        "a surface shorter than a whole person has, within this under its lowest cells, a reading "
+        "(legs, the floor, what hides them), a nearer surface's shadow or the picture's end: "
+        "nobody floats over a taller gap without readings (a shelf over a dark cabinet)"))
     min_cut_user_height_mm: float = Field(250, gt=0, description=(
         "a surface going on below the picture (someone close to the camera) spans at least this in "
         "height, cell to cell, not the box at its mean depth: a 5-year-old's crown to shoulders"))
