@@ -83,6 +83,11 @@ class GestureRules(BaseModel):
         "the spine on its hand's own side (beyond the shoulder, the arm held out), with no other hand moving "
         "by `swipe_comparable_ratio` of its travel, is no wind-up: it completes without `swipe_confirm_s`, "
         "as soon as it settles")
+    swipe_sure_start_mm: float = Field(
+        150.0, description="and starts in front of the body: no further out than this from the spine on its "
+        "hand's own side, inside the shoulder (MSRC-12's pushes to the side start 300 mm across the body to "
+        "113 mm out; a hand drawn out from in front of its shoulder to wind up a swipe the other way starts "
+        "further out). Further out, the swipe waits `swipe_confirm_s` like any other")
     swipe_settle_fraction: float = Field(
         0.35, ge=0, le=1, description="such a swipe has settled once its speed along its axis falls below "
         "this share of its peak (the arm decelerates into its reach: little travel is left)")
