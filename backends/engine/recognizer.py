@@ -494,9 +494,13 @@ class _Hand:
 
     def turned_into(self, stroke: Stroke, current: Stroke) -> bool:
         """Did the hand turn from `stroke` straight into `current` (no hold between them), not longer
-        ago than a swipe lasts? A wind-up turns straight into its swipe, which may take a while to
-        gather speed."""
-        return current.start.t <= stroke.end.t and current.duration <= self.r.swipe_max_duration_s
+        ago than a swipe lasts, and is `current` heading like a sideways swipe but for its speed (the
+        hand up, moving sideways `swipe_dominance` times faster than up or down now)? A wind-up turns
+        straight into its swipe, which may take a while to gather speed; an arm dropping back to rest
+        after a swipe goes down as much as back."""
+        return (current.axis == X and current.start.t <= stroke.end.t
+                and current.duration <= self.r.swipe_max_duration_s and self.raised(current, current.lowest)
+                and abs(float(current.end.v[X])) >= self.r.swipe_dominance * abs(float(current.end.v[Y])))
 
     def strength(self, stroke: Stroke) -> float:
         """How far and how fast the stroke's core goes: travel times mean speed (mm^2/s). Of a swipe and
