@@ -120,7 +120,7 @@ class Show:
     def __init__(self, backend: Backend, effects: list[EffectSlot], stage: Stage, *,
                  pm: pluggy.PluginManager | None = None, limits: Limits = Limits(),
                  renderer: Any = None, status: Callable[["Show"], None] | None = None,
-                 label: str | None = None, hold: bool = False) -> None:
+                 label: str | None = None, hold: bool = False, lossless: bool = False) -> None:
         self.backend = backend
         self.effects = effects
         self.stage = stage
@@ -141,6 +141,10 @@ class Show:
         self.failed_frame = 0  # the number (from 1) of the last frame the backend raised on
         self.label = label  # what is playing, for messages (a clip's path); None: the profile's source
         self.hold = hold  # True: after the sensor side ends, keep rendering until stopped (calibration)
+        # True (an unpaced `--fast` show): the sensor waits until the effects saw each frame, so a
+        # busy machine changes nothing in what they do (hands and gestures stay in step)
+        self.lossless = lossless
+        self._delivered = threading.Event()
         self._failed_in_a_row = 0
 
     def request_stop(self) -> None:
@@ -163,6 +167,8 @@ class Show:
                 self.gestures.put_all(frame.gestures)
                 self.latest.publish(frame)
                 self._wake.set()
+                if self.lossless:
+                    self._await_delivery()
                 first_t = frame.timestamp if first_t is None else first_t
                 if self.limits.frames is not None and self.metrics.frames >= self.limits.frames:
                     break
@@ -174,6 +180,12 @@ class Show:
         finally:
             self._sensor_done.set()
             self._wake.set()
+
+    def _await_delivery(self) -> None:
+        while not self._delivered.wait(0.1):
+            if self._stop.is_set():
+                return
+        self._delivered.clear()
 
     def _next_frame(self) -> Frame | None | bool:
         """The backend's next frame; False when it raised on this one. A backend that fails on a
@@ -227,6 +239,7 @@ class Show:
             for slot in self._running():
                 self._call(slot, "on_frame", frame)
             self.metrics.delivered(frame, skipped=count - last_count - 1)
+            self._delivered.set()
         return count
 
     def _render(self) -> None:

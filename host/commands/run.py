@@ -36,7 +36,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--size", type=size, metavar="WxH", help="output size in pixels, e.g. 1920x1080")
     p.add_argument("--out", metavar="FILE.mp4", help="also write the show to a video file")
     p.add_argument("--snapshot", metavar="FILE.png", help="save the last rendered frame as PNG")
-    p.add_argument("--fast", action="store_true", help="do not pace recorded sources: as fast as possible")
+    p.add_argument("--fast", action="store_true", help="do not pace recorded sources: as fast as possible, every frame to the effects")
     p.add_argument("--no-reload", action="store_true",
                    help="do not watch the profile and effect sources for edits (live reload is on by default)")
 
@@ -77,7 +77,7 @@ def main(args: argparse.Namespace) -> int:
         status(show)
 
     show = Show(backend, effects, stage, pm=default_manager(), limits=Limits(args.frames, args.seconds),
-                renderer=renderer, status=between_ticks)
+                renderer=renderer, status=between_ticks, lossless=args.fast)
     metrics = play(show, status)
     if args.metrics_json:
         Path(args.metrics_json).write_text(json.dumps(metrics.to_json(), indent=2) + "\n")

@@ -55,9 +55,9 @@ class Recorder(Effect):
         time.sleep(self.frame_delay)
 
 
-def run_show(backend, effects, fps=60.0, limits=Limits()):
+def run_show(backend, effects, fps=60.0, limits=Limits(), lossless=False):
     slots = [EffectSlot(e, f"effects[{i}]") for i, e in enumerate(effects)]
-    show = Show(backend, slots, Stage((64, 48), fps, backend.name), limits=limits)
+    show = Show(backend, slots, Stage((64, 48), fps, backend.name), limits=limits, lossless=lossless)
     return show, show.run()
 
 
@@ -72,6 +72,16 @@ def test_slow_show_loop_drops_frames_but_never_gestures():
     assert slow.frames == sorted(slow.frames) and slow.frames[-1] == 200
     assert metrics.gestures_by_name == {"swipe_left": 400}
     assert backend.stopped
+
+
+def test_a_lossless_show_gives_every_frame_to_a_slow_effect_in_step_with_its_gestures():
+    """`issv run --fast`: an unpaced show waits for its effects, so a busy machine changes nothing."""
+    slow = Recorder(frame_delay=0.005)
+    seen = []
+    slow.on_frame = lambda frame: (seen.append((frame.seq, [t for t, _ in slow.events])), time.sleep(0.005))
+    show, metrics = run_show(BurstBackend(100), [slow], fps=200, lossless=True)
+    assert [seq for seq, _ in seen] == list(range(1, 101)) and metrics.dropped == 0
+    assert all(events[-1] == seq for seq, events in seen)  # a frame's gestures came just before it
 
 
 def test_a_raising_effect_is_disabled_and_the_others_lose_nothing(capsys):

@@ -135,6 +135,11 @@ class Receiver(UdpInbox):
             time.sleep(0.01)
         return predicate(self)
 
+    def wait_quiet(self, quiet_s: float = 0.3, timeout: float = 5.0) -> bool:
+        """Whether datagrams came and then stopped for `quiet_s`: after a show, all of them are in
+        (this thread may lag behind the sender when the machine is busy)."""
+        return self.wait_for(lambda r: bool(r.packets) and time.time() - r.packets[-1].at >= quiet_s, timeout)
+
     def has_frame(self, seq: int, address: str = "/issv/frame") -> bool:
         """Whether the bundle of frame `seq` arrived (the last one of a show: all before it did)."""
         return any(m[2][0] == seq for m in self.messages(address))

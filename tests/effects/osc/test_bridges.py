@@ -216,7 +216,11 @@ def test_a_recorded_duet_plays_back_to_osceleton_with_its_users(tmp_path, receiv
     run_show_with(backend, [make_osc(destinations=[receiver.address], scheme="osceleton")])
     assert receiver.wait_for(lambda r: len(r.messages("/lost_user")) == 2)
     events = [(a, args[0]) for a, _, args in receiver.messages() if a in ("/new_user", "/new_skel", "/lost_user")]
-    assert events[:4] == [("/new_user", 1), ("/new_skel", 1), ("/new_user", 2), ("/new_skel", 2)]
+    # each user's /new_skel after its /new_user (osc-in may cut a frame between OSCeleton's /new_user
+    # and the first joints when the machine is busy: a user calibrating for a frame, as live)
+    assert sorted(events[:4]) == [("/new_skel", 1), ("/new_skel", 2), ("/new_user", 1), ("/new_user", 2)]
+    assert events.index(("/new_user", 1)) < events.index(("/new_skel", 1)) < events.index(("/new_skel", 2))
+    assert events.index(("/new_user", 2)) < events.index(("/new_skel", 2))
     assert sorted(events[4:]) == [("/lost_user", 1), ("/lost_user", 2)]
     torso = [args for a, _, args in receiver.messages("/joint") if args[:2] == ["torso", 2]]
     assert torso and torso[0][2:] == pytest.approx(list(normalised((900.0, 0.0, 2100.0))), rel=1e-5)
@@ -245,7 +249,7 @@ def bridges_pd():
 def test_a_pd_patch_for_osceleton_parses_every_message(bridges_pd, receiver):
     pd = bridges_pd()
     run_users([make_osc(destinations=[pd.address, receiver.address], scheme="osceleton")], duet, 30)
-    assert receiver.wait_for(lambda r: r.messages("/lost_user"))
+    assert receiver.wait_quiet()  # user 1 leaves at frame 20: its /lost_user is not the last message
     sent = [m for m in receiver.messages() if m[0] in ("/joint", "/new_user", "/new_skel", "/lost_user")]
     assert pd.echo.wait_for(lambda r: len(r.messages()) == len(sent) + 1)  # and /echo/ready
     for (address, _, args), (echoed, tags, back) in zip(sent, pd.echo.messages()[1:]):
