@@ -7,10 +7,11 @@ matched against the rules (rules.py):
 
 - SWIPE_LEFT/RIGHT/UP/DOWN: one fast stroke, dominant along its axis, with the hand up from
   rest (a sideways one may sweep out at waist height, see `raised`) and the body steady. It
-  completes `swipe_confirm_s` after it ends unless a comparable stroke the other way follows:
-  then it was a wind-up (the larger stroke wins) or part of a back-and-forth (neither is a
-  swipe); the third of quick alternating strokes is a wave's, never a swipe, but sweeps slower
-  than a wave's swings are swipes each. A reversal of a frame or two is a tracker's glitch: the
+  completes `swipe_confirm_s` after it ends (or once a sideways stroke the hand turned straight
+  into ends) unless a comparable stroke the other way follows: then the stronger of the two
+  (further and faster) is the swipe and the other its wind-up or return, or both are part of a
+  back-and-forth (neither is a swipe); the third of quick alternating strokes is a wave's, never
+  a swipe, but sweeps slower than a wave's swings are swipes each. A reversal of a frame or two is a tracker's glitch: the
   strokes either side of it are one. If the hand leaves the view meanwhile, the swipe completes,
   except a swipe down: a hand lost after a stroke down went back to rest (a swipe down waits
   while its hand is unseen).
