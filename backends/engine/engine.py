@@ -8,9 +8,10 @@ hands, ids and gestures are those of the single-user tracker. A user hidden for 
 another) keeps their pipeline and is reported TRACKING, their two hands held where last seen,
 until the people tracker says LOST; then their pipeline ends.
 
-Each user's pipeline sees only the box around them on the shared grid (with a margin wider than
-the body estimate's widest opening, so every result is the same as on the whole grid, image
-borders included): two users cost little more than one.
+Each user's pipeline sees only the box around them on the shared grid, two cells wider (as far
+as the body frame's openings and the hand detector's gap bridging look beyond the user, so every
+result is the same as on the whole grid, image borders included): two users cost little more
+than one.
 """
 from __future__ import annotations
 
@@ -126,7 +127,7 @@ class Engine:
                     users.append(replace(pipeline.user, state=HandState.LOST))
                 continue
             segment = person.person.segment if person.person is not None else None
-            box = self._box(segment, person.centre[2])
+            box = self._box(segment)
             result = pipeline.tracker.track(box, t, mirrored)
             if segment is not None:
                 result = replace(result, mask=segment.mask, grid_z=segment.grid.z)
@@ -143,17 +144,13 @@ class Engine:
         return EngineFrame(tuple(users), tuple(sorted(hands, key=lambda h: h.id)), results, frozenset(seen),
                            tuple(both), drawn=labels)
 
-    def _box(self, segment: Segment | None, depth_mm: float) -> Segment | None:
-        """The segment cut down to the user's box plus a margin as wide as the body's widest
-        opening at half the user's depth (nearer, a hand; the openings are done at the trunk's
-        depth), clamped to the grid."""
+    @staticmethod
+    def _box(segment: Segment | None) -> Segment | None:
+        """The segment cut down to the user's box plus two cells, clamped to the grid."""
         if segment is None:
             return None
         g, mask = segment.grid, segment.mask
-        body = self.options.body
-        widest = max(body.core_width_mm, body.outline_width_mm)
-        margin = int(np.ceil(widest / (g.cell_x * 0.5 * depth_mm))) + 2
-        box = bounding_box(mask, margin)
+        box = bounding_box(mask, 2)
         if box is None or mask[box].size >= 0.8 * mask.size:
             return segment
         return Segment(mask[box], g.crop(box))

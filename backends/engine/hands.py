@@ -74,10 +74,10 @@ class HandDetector:
             return []
         g, mask, core = seg.grid.crop(box), seg.mask[box], body.core[box]
         top, left = box[0].start, box[1].start
-        tx, _, _ = body.torso
+        tx, _, _ = body.torso.tolist()
         dx = g.x - tx
         front = body.surface_z - g.z
-        hx, hy = g.x - body.head[0], g.y - body.head[1]
+        hx, hy = g.x - float(body.head[0]), g.y - float(body.head[1])
         head_clear = hx * hx + hy * hy > o.head_clearance_mm ** 2
         extended = (((front > o.front_mm) & (head_clear | (body.face_z - g.z > o.front_mm)))
                     | ((np.abs(dx) > o.beside_mm) & ~core)

@@ -12,6 +12,7 @@ Who is who from frame to frame is people.py's job; the segmenter only finds them
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import cv2
@@ -29,6 +30,7 @@ SHOULDERS_MM = 400  # the shoulders are within this of the crown (0.18 x height:
 SHOULDERS_TO_HEAD = 1.5  # shoulders are at least this many heads wide (a 5-year-old 1.8, an adult 2.6)
 ABOVE_CROWN_MM = 300  # looked at straight above the crown ...
 BEHIND_MM = 150  # ... for a surface less than this behind it (an own head cut off is ~100 mm behind the chest)
+FLOOR_UNDER = 0.01  # share of the lower cells under a floor still kept: more, and it is looked for afresh
 MAX_COVERED = 0.25  # share of the crown's columns with such a surface above: more, and it is no crown
 
 
@@ -45,10 +47,10 @@ class SegmentationOptions(BaseModel):
     floor_tolerance_mm: float = Field(60, gt=0, description="points this close to the floor plane are floor")
     floor_max_tilt_deg: float = Field(40, gt=0, lt=90, description="how far the floor normal may lean from the camera's up")
     floor_min_span_mm: float = Field(1000, gt=0, description="a floor is at least this wide (a seated lap is not)")
-    floor_every: int = Field(1, ge=1, description=(
-        "a floor found is kept for this many frames, then looked for afresh (while none is found, it is "
-        "looked for in every frame): 10 saves about a tenth of the tracking time with a camera that "
-        "stands still, but finds someone walking in over a floor seen at first a frame or two later"))
+    floor_every: int = Field(30, ge=1, description=(
+        "a floor found is kept while it still fits (as many cells on it as when looking for one, "
+        "next to none under it), for at most this many frames, then looked for afresh (while none "
+        "is found, in every frame); 1 looks for it in every frame"))
     min_user_area_m2: float = Field(0.08, gt=0, description="frontal area of the smallest user (a head and shoulders)")
     min_user_height_mm: float = Field(450, gt=0)
     min_cut_user_height_mm: float = Field(250, gt=0, description=(
@@ -97,11 +99,10 @@ class Grid:
 def bounding_box(mask: np.ndarray, margin: int = 0) -> tuple[slice, slice] | None:
     """The rows and columns holding `mask`'s cells, `margin` cells wider on each side (within the
     array); None for an empty mask."""
-    rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
-    if rows.size == 0:
+    x, y, w, h = cv2.boundingRect(mask.view(np.uint8))
+    if w == 0:
         return None
-    return (slice(max(0, rows[0] - margin), rows[-1] + margin + 1),
-            slice(max(0, cols[0] - margin), cols[-1] + margin + 1))
+    return slice(max(0, y - margin), y + h + margin), slice(max(0, x - margin), x + w + margin)
 
 
 @dataclass(frozen=True)
@@ -138,8 +139,9 @@ class Segmenter:
     def grid(self, depth: DepthFrame) -> Grid:
         o = self.options
         step = max(1, round(depth.width / o.grid_width))
-        z = depth.data[::step, ::step].astype(np.float32)
-        z[(z < o.near_mm) | (z > o.far_mm)] = 0
+        cells = np.ascontiguousarray(depth.data[::step, ::step])
+        readings = cv2.inRange(cells, math.ceil(o.near_mm), math.floor(o.far_mm)) != 0  # readings are whole mm
+        z = cells.astype(np.float32) * readings
         gx, gy, cell = self._ray_grid(depth, step, z.shape)
         i = depth.intrinsics
         return Grid(z, z * gx, z * gy, (z * z) * cell, step / i.fx, step / i.fy)
@@ -166,49 +168,63 @@ class Segmenter:
         valid = g.z > 0
         if self.options.floor:
             valid &= ~self._floor_mask(g, valid)
-        labels, stats = self._surfaces(g, valid)
-        found = self._pick_people(g, labels, stats, stay)
+        count, labels = self._surfaces(g, valid)
+        found = self._pick_people(g, labels, count, stay)
         cut = valid & (labels == 0)
         out = []
         for mask, centre in found:
             mask = self._with_rim(g, mask, cut)
             cut &= ~mask  # a rim cell is one person's
-            rows = np.flatnonzero(mask.any(axis=1))
-            top = float(np.max(g.y[rows[0]][mask[rows[0]]]))
-            out.append(Person(Segment(mask, g), centre, top, int(mask.sum())))
+            first = bounding_box(mask)[0].start
+            top = float(np.max(g.y[first][mask[first]]))
+            out.append(Person(Segment(mask, g), centre, top, np.count_nonzero(mask)))
         self._last_mask = out[0].segment.mask if out else None
         return out
 
     # -- floor -------------------------------------------------------------------------------
     def _floor_mask(self, g: Grid, valid: np.ndarray) -> np.ndarray:
-        if self._plane is None or self._floor_age >= self.options.floor_every:
+        """The cells on the floor. A floor that still fits is kept (for up to `floor_every`
+        frames): the search is the dearest step of segmenting, and a camera mostly stands still."""
+        o = self.options
+        height = None if self._plane is None else _height(g, self._plane)
+        if height is None or self._floor_age >= o.floor_every or not self._fits(height, valid):
             self._plane, self._floor_age = self._find_floor(g, valid), 0
-            if self._plane is not None:
-                self._floor = self._plane
+            if self._plane is None:
+                return np.zeros_like(valid)
+            self._floor = self._plane
+            height = _height(g, self._plane)
         self._floor_age += 1
-        plane = self._plane
-        if plane is None:
-            return np.zeros_like(valid)
-        height = g.x * plane[0] + g.y * plane[1] + g.z * plane[2] + plane[3]
-        return valid & (height < self.options.floor_tolerance_mm + 0.01 * g.z)
+        return valid & (height < o.floor_tolerance_mm + 0.01 * g.z)
+
+    def _fits(self, height: np.ndarray, valid: np.ndarray) -> bool:
+        """Whether the floor still lies where it was found: as many of the lower cells on it as
+        a floor found needs, and (almost) none under it (else the camera moved, or it never was
+        the floor)."""
+        tolerance = self.options.floor_tolerance_mm
+        third = valid.shape[0] // 3
+        h, lower = height[third:], valid[third:]
+        cells = np.count_nonzero(lower)
+        on = np.count_nonzero(lower & (np.abs(h) < tolerance))
+        under = np.count_nonzero(lower & (h < -tolerance))
+        return cells >= 50 and on >= max(30, 0.1 * cells) and under <= FLOOR_UNDER * cells
 
     def _find_floor(self, g: Grid, valid: np.ndarray, samples: int = 600, hypotheses: int = 48) -> np.ndarray | None:
         """RANSAC among near-horizontal planes with most points above them; the last floor competes too."""
         o = self.options
-        lower = valid.copy()
-        lower[: valid.shape[0] // 3] = False  # the floor shows in the lower part of a level camera's view
-        idx = np.flatnonzero(lower)
+        third = valid.shape[0] // 3  # the floor shows in the lower part of a level camera's view
+        idx = np.flatnonzero(valid[third:]) + third * valid.shape[1]
         if idx.size < 50:
             return None
         idx = self._rng.choice(idx, size=min(samples, idx.size), replace=False)
         pts = np.stack([g.x.flat[idx], g.y.flat[idx], g.z.flat[idx]], axis=1).astype(np.float64)
         tri = pts[self._rng.integers(0, len(pts), size=(hypotheses, 3))]
-        n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-        norm = np.linalg.norm(n, axis=1)
+        a = tri[:, 0]
+        n = _cross(tri[:, 1] - a, tri[:, 2] - a)
+        norm = np.sqrt(np.einsum("ij,ij->i", n, n))
         ok = norm > 1e-6
         n = n[ok] / norm[ok, None]
-        n *= np.sign(n[:, 1:2]) + (n[:, 1:2] == 0)  # normals point up
-        d = -np.einsum("ij,ij->i", n, tri[ok, 0])
+        n *= np.where(n[:, 1:2] < 0, -1.0, 1.0)  # normals point up
+        d = -np.einsum("ij,ij->i", n, a[ok])
         planes = np.concatenate([n, d[:, None]], axis=1)
         if self._floor is not None:
             planes = np.vstack([planes, self._floor])
@@ -228,40 +244,37 @@ class Segmenter:
         return planes[best] if span >= o.floor_min_span_mm else None
 
     # -- surfaces and the user ---------------------------------------------------------------
-    def _surfaces(self, g: Grid, valid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Connected surfaces: 4-neighbours whose depths differ by less than the edge threshold.
+    def _surfaces(self, g: Grid, valid: np.ndarray) -> tuple[int, np.ndarray]:
+        """How many labels, and the label image of the connected surfaces: 4-neighbours whose depths
+        differ by less than the edge threshold.
 
         Only the far side of a jump is cut, so the near surface (the user) keeps its outline. A cell
         without a reading between two with readings (a sensor's dropped reading, a row lost in
         rescaling) bridges them at the farther one's depth, so a line of holes does not cut a person
         in two; bridges join surfaces but are not part of them.
         """
-        z = np.where(valid, g.z, 0)
+        z = g.z * valid
         bridge = ~valid & cv2.morphologyEx(valid.view(np.uint8), cv2.MORPH_CLOSE, ONE_CELL_GAP).view(bool)
-        z = np.where(bridge, cv2.dilate(z, ONE_CELL_GAP), z)
+        np.copyto(z, cv2.dilate(z, ONE_CELL_GAP), where=bridge)
         valid = valid | bridge
-        thr = self.options.edge_mm + self.options.edge_ratio * z
-        keep = valid.copy()
-        dx = z[:, 1:] - z[:, :-1]
-        dy = z[1:, :] - z[:-1, :]
-        both_x = valid[:, 1:] & valid[:, :-1]
-        both_y = valid[1:, :] & valid[:-1, :]
-        keep[:, 1:] &= ~(both_x & (dx > thr[:, :-1]))
-        keep[:, :-1] &= ~(both_x & (-dx > thr[:, 1:]))
-        keep[1:, :] &= ~(both_y & (dy > thr[:-1, :]))
-        keep[:-1, :] &= ~(both_y & (-dy > thr[1:, :]))
-        _, labels, stats, _ = cv2.connectedComponentsWithStats(keep.view(np.uint8), connectivity=4)
+        # A cell is cut when a neighbour is nearer by more than the threshold at the neighbour's
+        # depth: z - n > edge + ratio * n, i.e. the nearest neighbour n < (z - edge) / (1 + ratio).
+        nearest = cv2.erode(np.where(valid, z, np.float32(np.inf)), ONE_CELL_GAP)
+        o = self.options
+        keep = valid & ~(nearest < (z - np.float32(o.edge_mm)) / np.float32(1 + o.edge_ratio))
+        count, labels = cv2.connectedComponents(keep.view(np.uint8), connectivity=4)
         labels[bridge] = 0
-        return labels, stats
+        return count, labels
 
     def _with_rim(self, g: Grid, mask: np.ndarray, cut: np.ndarray) -> np.ndarray:
         """Give back the user's cells that were cut as the far side of a jump onto the user itself
         (the chest behind an arm held across it); the far background stays out."""
         box = bounding_box(mask, 1)  # the rim is one cell around the user
-        near = cv2.dilate(mask[box].view(np.uint8), np.ones((3, 3), np.uint8)).view(bool)
-        depth = float(median(g.z[mask]))
+        own, z = mask[box], g.z[box]
+        near = cv2.dilate(own.view(np.uint8), np.ones((3, 3), np.uint8)).view(bool)
+        depth = float(median(z[own]))
         out = mask.copy()
-        out[box] |= near & cut[box] & (np.abs(g.z[box] - depth) < self.options.rim_depth_mm)
+        out[box] |= near & cut[box] & (np.abs(z - depth) < self.options.rim_depth_mm)
         return out
 
     def _enclosed(self, g: Grid, labels: np.ndarray, sized: np.ndarray, box: np.ndarray, k: int,
@@ -274,9 +287,9 @@ class Segmenter:
         window = labels[y0:y + h + 2, x0:x + w + 2]
         mask = window == k
         ring = cv2.dilate(mask.view(np.uint8), RING).view(bool) & ~mask & (window > 0)
-        z = g.z[y0:y + h + 2, x0:x + w + 2]
-        nearer = ring & sized[window] & (z < depth - self.options.edge_mm - self.options.edge_ratio * depth)
-        return float(nearer.sum()) / max(1, int(ring.sum()))
+        around, z = window[ring], g.z[y0:y + h + 2, x0:x + w + 2][ring]
+        nearer = sized[around] & (z < depth - self.options.edge_mm - self.options.edge_ratio * depth)
+        return np.count_nonzero(nearer) / max(1, around.size)
 
     def _head_and_shoulders(self, g: Grid, labels: np.ndarray, box: np.ndarray, k: int) -> bool:
         """Whether surface `k`, cut off by the picture's bottom, is someone close to the camera:
@@ -313,55 +326,78 @@ class Segmenter:
                 & (z > 0) & (z < depth + BEHIND_MM))
         return float(over.any(axis=0).mean()) <= MAX_COVERED
 
-    def _pick_people(self, g: Grid, labels: np.ndarray, stats: np.ndarray,
+    def _pick_people(self, g: Grid, labels: np.ndarray, count: int,
                      stay: bool) -> list[tuple[np.ndarray, np.ndarray]]:
         """(mask, centre of the main surface) per person, nearest first."""
         o = self.options
-        count = len(stats)
         if count <= 1:
             return []
-        flat = labels.ravel()
-        area = np.bincount(flat, weights=g.pixel_area_mm2.ravel(), minlength=count)
-        area[0] = 0
+        flat = labels.ravel().astype(np.intp)  # bincount's index type: converted once for all of them
         n = np.maximum(np.bincount(flat, minlength=count), 1)  # cells per surface (with readings)
         z = g.z.astype(np.float64).ravel()
-        mean = [np.bincount(flat, weights=c, minlength=count) / n for c in (g.x.ravel(), g.y.ravel(), z)]
-        zz = np.bincount(flat, weights=z * z, minlength=count) / n
-        spread = np.sqrt(np.maximum(zz - mean[2] ** 2, 0))
-        ext_w = stats[:, cv2.CC_STAT_WIDTH] * g.cell_x * mean[2]  # bounding box in mm at the mean depth
-        ext_h = stats[:, cv2.CC_STAT_HEIGHT] * g.cell_y * mean[2]
-        person = ((area >= o.min_user_area_m2 * 1e6)
-                  & (ext_w <= o.max_user_width_mm) & (spread <= o.max_user_depth_spread_mm)
-                  & (mean[2] >= o.min_distance_mm) & (mean[2] <= o.max_distance_mm))
+        mean_z = np.bincount(flat, weights=z, minlength=count) / n
+        zz = np.bincount(flat, weights=z * z, minlength=count)
+        area = zz * (g.cell_x * g.cell_y)  # a cell covers its depth squared times its solid angle
+        area[0] = 0
+        spread = np.sqrt(np.maximum(zz / n - mean_z ** 2, 0))
+        person = ((area >= o.min_user_area_m2 * 1e6) & (spread <= o.max_user_depth_spread_mm)
+                  & (mean_z >= o.min_distance_mm) & (mean_z <= o.max_distance_mm))
         person[0] = False
+        boxes = _boxes(labels, person)
+        ext_w = boxes[:, 2] * g.cell_x * mean_z  # bounding box in mm at the mean depth
+        ext_h = boxes[:, 3] * g.cell_y * mean_z
+        person &= ext_w <= o.max_user_width_mm
         tall = ext_h >= o.min_user_height_mm
-        top, bottom = stats[:, cv2.CC_STAT_TOP], stats[:, cv2.CC_STAT_TOP] + stats[:, cv2.CC_STAT_HEIGHT]
+        top, bottom = boxes[:, 1], boxes[:, 1] + boxes[:, 3]
         for k in np.flatnonzero(person & ~tall & (bottom >= labels.shape[0]) & (top > 0)):
-            tall[k] = self._head_and_shoulders(g, labels, stats[k], k)
+            tall[k] = self._head_and_shoulders(g, labels, boxes[k], k)
         person &= tall
         if not person.any():
             return []
         sized = person.copy()
         for k in np.flatnonzero(sized):
-            person[k] = self._enclosed(g, labels, sized, stats[k], k, mean[2][k]) <= o.max_enclosed
+            person[k] = self._enclosed(g, labels, sized, boxes[k], k, mean_z[k]) <= o.max_enclosed
         if not person.any():
             return []
-        rank = mean[2].copy()
+        rank = mean_z.copy()
         if stay and self._last_mask is not None and self._last_mask.shape == labels.shape:
             overlap = np.bincount(flat[self._last_mask.ravel()], minlength=count) / n
             rank -= 2000.0 * (overlap > 0.3)  # stay on the same person while they are there
         rank[~person] = np.inf
-        people = np.argsort(rank)[:min(o.max_people, int(person.sum()))]
-        centres = np.stack(mean, axis=1)
+        people = np.argsort(rank)[:min(o.max_people, np.count_nonzero(person))]
         # Detached parts: within reach of a person and not behind them; each joins the nearest.
+        part = (area >= o.min_part_area_m2 * 1e6) & (area <= o.max_part_area_m2 * 1e6) & ~person
+        part[0] = False
+        centres = np.stack([np.bincount(flat, weights=g.x.ravel(), minlength=count) / n,
+                            np.bincount(flat, weights=g.y.ravel(), minlength=count) / n, mean_z], axis=1)
         offsets = centres[:, None, :] - centres[None, people, :]  # (surface, person, xyz)
         distance = np.linalg.norm(offsets, axis=2)
         within = (distance <= o.reach_mm) & (offsets[:, :, 2] < 150)
-        part = ((area >= o.min_part_area_m2 * 1e6) & (area <= o.max_part_area_m2 * 1e6) & ~person
-                & within.any(axis=1))
-        part[0] = False
+        part &= within.any(axis=1)
         owner = np.full(count, -1)
         owner[part] = np.argmin(np.where(within, distance, np.inf), axis=1)[part]
         owner[people] = np.arange(len(people))
-        owned = owner[labels]
+        owned = owner.take(labels)
         return [(owned == k, centres[p]) for k, p in enumerate(people)]
+
+
+def _boxes(labels: np.ndarray, which: np.ndarray) -> np.ndarray:
+    """(label, (x, y, w, h)): the bounding boxes of the labels in `which`, zeros for the rest (only
+    the few surfaces that could be people need one)."""
+    boxes = np.zeros((len(which), 4), np.int64)
+    for k in np.flatnonzero(which):
+        boxes[k] = cv2.boundingRect((labels == k).view(np.uint8))
+    return boxes
+
+
+def _height(g: Grid, plane: np.ndarray) -> np.ndarray:
+    """Each cell's height above the plane (mm), in the grid's float32."""
+    nx, ny, nz, d = (float(v) for v in plane)
+    return g.x * nx + g.y * ny + g.z * nz + d
+
+
+def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of (n, 3) arrays (np.cross costs more than the arithmetic on a few dozen rows)."""
+    return np.stack([u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1],
+                     u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2],
+                     u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]], axis=1)

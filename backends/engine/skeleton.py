@@ -111,7 +111,8 @@ class SkeletonEstimator:
                 joints[f"{name}_elbow"] = elbow
             hands.append(self._hand(side, position, confidence, is_out, at_border))
         g = view.grid
-        mass = tuple(float(c[view.mask].mean()) for c in (g.x, g.y, g.z))
+        n = np.count_nonzero(view.mask)
+        mass = tuple(float(c[view.mask].sum() / n) for c in (g.x, g.y, g.z))
         return Skeleton(joints, tuple(hands), mass)
 
     def _side_hand(self, view: _View, cells: _Side, body: Body, side: Side, outwards: float,
@@ -222,23 +223,22 @@ class SkeletonEstimator:
         if not palm.any():
             return None
         z = g.z[band][palm]
-        near = np.partition(z, len(z) // 5)[len(z) // 5]  # the hand's front, not the thigh beside it
-        position = np.array([g.x[band][palm].mean(), g.y[band][palm].mean(), near + o.hand_depth_mm])
+        n = len(z)
+        near = np.partition(z, n // 5)[n // 5]  # the hand's front, not the thigh beside it
+        position = np.array([g.x[band][palm].sum() / n, g.y[band][palm].sum() / n, near + o.hand_depth_mm])
         seen = float(g.pixel_area_mm2[band][palm].sum()) / (o.palm_area_m2 * 1e6)
         return position, min(o.resting_confidence, seen), beside
 
     def _fingertips(self, edge: np.ndarray, rows: np.ndarray) -> int:
         """The grid row where the hanging arm ends: going down the first run of arm rows (a row
         or two may be missing), the last one before the outline steps in by `fingertip_step_mm`
-        (the thigh below the fingers), else the run's last row."""
-        gaps = np.flatnonzero(np.diff(rows) > 2)
-        run = rows[: gaps[0] + 1] if gaps.size else rows
-        out = edge[run]
-        above = np.full((3, len(run)), -np.inf)  # the outline of each of the three rows above
-        for lag in (1, 2, 3):
-            above[lag - 1, lag:] = out[:-lag]
-        steps = np.flatnonzero(above.max(axis=0) - out > self.options.fingertip_step_mm)
-        return int(run[steps[0] - 1]) if steps.size else int(run[-1])
+        (the thigh below the fingers), else the run's last row. A few dozen rows: a loop over them
+        costs less than array operations."""
+        out, rows = edge[rows].tolist(), rows.tolist()
+        for i in range(1, len(rows)):
+            if rows[i] - rows[i - 1] > 2 or max(out[max(0, i - 3):i]) - out[i] > self.options.fingertip_step_mm:
+                return rows[i - 1]  # the run ends at a gap, or the outline steps in below this row
+        return rows[-1]
 
     def _elbow(self, view: _View, shoulder: np.ndarray, hand: np.ndarray) -> Joint | None:
         """The user's cell nearest the middle of shoulder and hand, if it is an upper arm from the
@@ -251,7 +251,7 @@ class SkeletonEstimator:
         if not near.any():
             return None
         x, y, z = x[near], g.y[band][near], g.z[band][near]
-        i = int(np.argmin(np.sqrt((x - middle[0]) ** 2 + (y - middle[1]) ** 2 + (z - middle[2]) ** 2)))
+        i = int(np.argmin((x - middle[0]) ** 2 + (y - middle[1]) ** 2 + (z - middle[2]) ** 2))
         cell = np.array([x[i], y[i], z[i]], np.float64) + (0.0, 0.0, o.hand_depth_mm)
         lo, hi = o.upper_arm_mm
         upper, fore = np.linalg.norm(cell - shoulder), np.linalg.norm(cell - hand)
@@ -274,7 +274,7 @@ class _View:
     def of(cls, seg: Segment, body: Body, behind_mm: float) -> "_View":
         box = bounding_box(seg.mask)
         grid, mask = seg.grid.crop(box), seg.mask[box]
-        return cls(grid, mask, grid.x - body.torso[0], mask & (grid.z - body.surface_z < behind_mm),
+        return cls(grid, mask, grid.x - float(body.torso[0]), mask & (grid.z - body.surface_z < behind_mm),
                    _row_heights(grid.y, mask))
 
 
@@ -287,14 +287,14 @@ class _Side:
 
 def _rows(rows_y: np.ndarray, low: float, high: float) -> slice:
     """The rows whose height lies in [low, high] (rows go down as the index grows)."""
-    inside = np.flatnonzero((rows_y >= low) & (rows_y <= high))
+    inside = ((rows_y >= low) & (rows_y <= high)).nonzero()[0]
     return slice(int(inside[0]), int(inside[-1]) + 1) if inside.size else slice(0, 0)
 
 
 def _row_heights(y: np.ndarray, mask: np.ndarray) -> np.ndarray:
-    """Each grid row's height in mm (the median over its user cells; NaN for empty rows)."""
-    counts = mask.sum(axis=1)
-    sums = np.where(mask, y, 0).sum(axis=1)
+    """Each grid row's height in mm (the mean over its user cells; NaN for empty rows)."""
+    counts = np.count_nonzero(mask, axis=1)
+    sums = (y * mask).sum(axis=1)
     return np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
 
 

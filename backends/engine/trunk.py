@@ -83,20 +83,23 @@ class BodyEstimator:
         ref = self._surface_z if self._surface_z is not None else float(median(g.z[mask]))
         k = max(3, int(round(o.core_width_mm / (g.cell_x * ref))))
         k_outline = max(3, int(round(o.outline_width_mm / (g.cell_x * ref))))
-        # The openings (and the hole filling before them) reach k // 2 + 2 cells beyond the user:
-        # farther out nothing can change, so all is done on that box (the same result, faster).
-        box = bounding_box(mask, max(k, k_outline) // 2 + 2)
+        # All is done on the user's box (the same result as on the whole grid, faster); the
+        # openings see it padded with two empty cells where the grid goes on: the hole filling
+        # reaches one cell beyond the user, the erosion needs one empty cell beyond to eat into
+        # the user from that side, and an opening never grows past what it opens.
+        box = bounding_box(mask)
+        pad = _padding(box, mask.shape, 2)
         g, mask = g.crop(box), mask[box]
         # The trunk's position and depth come from the part near its own plane (an arm held in
         # front would drag them); the shoulder line from the lower of two estimates that an arm
         # can only push up: the top of the outline without its thin parts (an arm across the
         # chest stays inside it), and the crown of the head less the head and neck.
         plane = mask & (g.z > ref - o.plane_band_mm)
-        core = opened = self._open(plane, k)
-        if core.sum() < 4:
+        core = opened = self._open(plane, k, pad)
+        if np.count_nonzero(core) < 4:
             core = plane if plane.any() else mask
-        outline = self._open(mask, k_outline)
-        if outline.sum() < 4:
+        outline = self._open(mask, k_outline, pad)
+        if np.count_nonzero(outline) < 4:
             outline = core
         centre_x = float(median(g.x[core]))
         shoulder_y = float(percentile(g.y[outline], 98)) - o.shoulder_below_core_top_mm
@@ -120,9 +123,9 @@ class BodyEstimator:
         # (each cell's ray at the trunk's depth): an arm across the chest hides part of the trunk
         # and would pull the middle of what is left away from the spine.
         before = mask & (g.z < ref + o.plane_band_mm)  # often the plane itself (nothing in front, nothing behind)
-        seen = (opened if np.array_equal(before, plane) else self._open(before, k)) & trunk_rows | trunk
+        seen = (opened if np.array_equal(before, plane) else self._open(before, k, pad)) & trunk_rows | trunk
         tx = float(median(g.x[seen] / g.z[seen])) * ref
-        tx, shoulder_y, surface = self._frame(t, np.array([tx, shoulder_y, median(g.z[trunk])]))
+        tx, shoulder_y, surface = self._frame(t, np.array([tx, shoulder_y, median(g.z[trunk])])).tolist()
         self._surface_z = surface
         torso = np.array([tx, shoulder_y - o.spine_below_shoulder_mm, surface + o.joint_depth_mm])
         head_cells = column & (g.y > shoulder_y + 100)
@@ -136,7 +139,8 @@ class BodyEstimator:
         head = self._head_filter(t, head)
         whole = np.zeros_like(seg.mask)
         whole[box] = core
-        return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface, head[2] - o.joint_depth_mm, whole)
+        return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface,
+                    float(head[2]) - o.joint_depth_mm, whole)
 
     @staticmethod
     def _top(y: np.ndarray, cells: np.ndarray) -> float | None:
@@ -158,14 +162,28 @@ class BodyEstimator:
         return crown
 
     @staticmethod
-    def _open(mask: np.ndarray, k: int) -> np.ndarray:
-        """The cells of `mask` that remain after removing everything thinner than a k-cell disc.
-        One-cell holes (missing readings, the shadow a depth sensor casts beside an arm) are
-        filled for the shape but left out of the result: they have no depth to take a median of.
-        A standing body is taller than wide: OpenCV's filters run faster along long rows, so the
-        picture and the disc are transposed then (the same result)."""
-        tall = mask.shape[0] > mask.shape[1]
-        cells = np.ascontiguousarray(mask.T) if tall else mask
-        filled = cv2.morphologyEx(cells.view(np.uint8), cv2.MORPH_CLOSE, _HOLE)
+    def _open(mask: np.ndarray, k: int, pad: tuple[int, int, int, int]) -> np.ndarray:
+        """The cells of `mask` that remain after removing everything thinner than a k-cell disc,
+        done on `mask` padded with (top, bottom, left, right) empty cells. One-cell holes (missing
+        readings, the shadow a depth sensor casts beside an arm) are filled for the shape but left
+        out of the result: they have no depth to take a median of. A standing body is taller than
+        wide: OpenCV's filters run faster along long rows, so the picture and the disc are
+        transposed then (the same result)."""
+        top, bottom, left, right = pad
+        cells = cv2.copyMakeBorder(mask.view(np.uint8), top, bottom, left, right, cv2.BORDER_CONSTANT, value=0)
+        tall = cells.shape[0] > cells.shape[1]
+        if tall:
+            cells = np.ascontiguousarray(cells.T)
+        filled = cv2.morphologyEx(cells, cv2.MORPH_CLOSE, _HOLE)
         opened = cv2.morphologyEx(filled, cv2.MORPH_OPEN, _disc(k, tall)).view(bool)
-        return (opened.T if tall else opened) & mask
+        if tall:
+            opened = opened.T
+        return opened[top:top + mask.shape[0], left:left + mask.shape[1]] & mask
+
+
+def _padding(box: tuple[slice, slice], shape: tuple[int, int], margin: int) -> tuple[int, int, int, int]:
+    """Empty cells (top, bottom, left, right) to pad `box` with: `margin`, or as many as the grid
+    has beyond it (at the grid's edge OpenCV's own border rule applies, as on the whole grid)."""
+    rows, cols = box
+    return (min(margin, rows.start), min(margin, shape[0] - rows.stop),
+            min(margin, cols.start), min(margin, shape[1] - cols.stop))
