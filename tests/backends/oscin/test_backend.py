@@ -91,7 +91,7 @@ def test_osc_in_gestures_equal_the_recogniser_on_the_same_hands(tmp_path):
     start = next(f.time for f in frames if f.users)  # untagged: the first message's arrival
     assert direct and [(g.name, g.side) for g in got] == [(g.name, g.side) for g in direct]
     for a, b_ in zip(got, direct):  # arrival times stand in for the sender's: close, not equal
-        assert a.timestamp - start == pytest.approx(b_.timestamp, abs=0.05)
+        assert a.timestamp - start == pytest.approx(b_.timestamp, abs=0.1)  # (a busy machine delays some)
         assert a.position == pytest.approx(b_.position, abs=0.01)
 
 
@@ -205,14 +205,15 @@ def test_pure_data_playing_the_session_with_qlist(tmp_path):
 
 def test_osc_replay_keeps_the_timing_and_names_bad_lines(tmp_path):
     session = tmp_path / "s.txt"
-    session.write_text("0 osceleton /new_user 1;\n200 osceleton /new_skel 1;\n300 osceleton /lost_user 1;\n")
+    session.write_text("0 osceleton /new_user 1;\n400 osceleton /new_skel 1;\n600 osceleton /lost_user 1;\n")
     inbox = Receiver()
     try:
         proc = replay(session, inbox.port, "--speed", "2")
         assert proc.wait(60) == 0  # a loaded machine takes seconds to start a Python process
         assert inbox.wait_for(lambda r: len(r.packets) == 3)
         at = [p.at for p in inbox.packets]
-        assert at[1] - at[0] == pytest.approx(0.1, abs=0.04) and at[2] - at[1] == pytest.approx(0.15, abs=0.04)
+        # at half the recorded gaps (0.4 s, 0.6 s); a busy machine delays an arrival by tens of ms
+        assert at[1] - at[0] == pytest.approx(0.2, abs=0.07) and at[2] - at[1] == pytest.approx(0.3, abs=0.07)
         assert [m[:2] for p in inbox.packets for m in p.messages] == [("/new_user", "i"), ("/new_skel", "i"),
                                                                       ("/lost_user", "i")]
     finally:
