@@ -7,10 +7,11 @@ matched against the rules (rules.py):
 
 - SWIPE_LEFT/RIGHT/UP/DOWN: one fast stroke, dominant along its axis, with the hand up from
   rest (a sideways one may sweep out at waist height, see `raised`) and the body steady. It
-  completes `swipe_confirm_s` after it ends unless a comparable stroke the other way follows:
-  then it was a wind-up (the larger stroke wins) or part of a back-and-forth (neither is a
-  swipe); the third of quick alternating strokes is a wave's, never a swipe, but sweeps slower
-  than a wave's swings are swipes each. A reversal of a frame or two is a tracker's glitch: the
+  completes `swipe_confirm_s` after it ends (or once a sideways stroke the hand turned straight
+  into ends) unless a comparable stroke the other way follows: then the stronger of the two
+  (further and faster) is the swipe and the other its wind-up or return, or both are part of a
+  back-and-forth (neither is a swipe); the third of quick alternating strokes is a wave's, never
+  a swipe, but sweeps slower than a wave's swings are swipes each. A reversal of a frame or two is a tracker's glitch: the
   strokes either side of it are one. If the hand leaves the view meanwhile, the swipe completes,
   except a swipe down: a hand lost after a stroke down went back to rest (a swipe down waits
   while its hand is unseen).
@@ -364,14 +365,16 @@ class _Hand:
 
     def sure_swipe(self, stroke: Stroke) -> bool:
         """A swipe that is no wind-up, needing no wait for what follows: it starts from rest (a swipe
-        wound up, or a wave's swing, starts with the hand moving), sweeps outwards into the arm's reach
-        on its own side (no further to go that way; a wind-up for a swipe across the body also ends
-        there, but after the hand swung up or across first), and no other hand moves meanwhile (arms
-        balancing a kick, or spreading together)."""
+        wound up, or a wave's swing, starts with the hand moving) in front of the body, sweeps outwards
+        into the arm's reach on its own side (no further to go that way; a wind-up for a swipe across
+        the body also ends there, but after the hand swung up or across first, or drawn out from in
+        front of its shoulder), and no other hand moves meanwhile (arms balancing a kick, or spreading
+        together)."""
         r = self.r
         k = self.rec.size(stroke.start)
         start = stroke.start
-        if not self.out_to(stroke, r.swipe_sure_reach_mm * k) or start.t - start.seen_since < r.swipe_rest_s:
+        if (not self.out_to(stroke, r.swipe_sure_reach_mm * k) or start.t - start.seen_since < r.swipe_rest_s
+                or stroke.direction * float(start.p[X]) > r.swipe_sure_start_mm * k):
             return False
         before = [float(q.p[X]) for q in self.tr.samples if start.t - r.swipe_rest_s <= q.t <= start.t]
         if not before or max(before) - min(before) >= r.swipe_rest_mm * k:  # none: older than the history kept
@@ -454,15 +457,17 @@ class _Hand:
                 self.wave(stroke, reversed_)
             return
         pending = self.tr.pending.pop(stroke.axis, None)
-        # a comparable stroke the other way after a pending swipe: a wind-up and the real swipe, or a
-        # back-and-forth; either way the first was no swipe. Otherwise the first is confirmed now.
+        # a comparable stroke the other way after a pending swipe: of the two the stronger is the swipe,
+        # the other its wind-up or its return; but a return that turns straight into yet another stroke
+        # makes a back-and-forth (a wave's first swings), and neither is. Otherwise the first is confirmed now.
         follows = pending is not None and self.comparable(stroke, pending)
-        if pending is not None and not follows:
+        stronger = follows and self.strength(stroke) > self.strength(pending)
+        if pending is not None and (not follows or not (stronger or reversed_)):
             self.emit(self.swipe_name(pending), GestureState.COMPLETE, self.swipe_confidence(pending), pending.end)
         place = len(chain) if chain and chain[-1] is stroke else 1
         # the third of quick alternating strokes is a wave's; a sweep slower than a wave's swing is not
         waving = place > 2 and stroke.duration <= self.r.wave_max_stroke_s
-        if not waving and self.is_swipe(stroke) and (not follows or stroke.travel > pending.travel):
+        if not waving and self.is_swipe(stroke) and (not follows or stronger):
             self.tr.pending[stroke.axis] = stroke
             self.announce(self.swipe_name(stroke), stroke.start.t, self.swipe_confidence(stroke), stroke.end)
         if stroke.axis == X:
@@ -482,10 +487,27 @@ class _Hand:
         if not in_view and _drop(pending):
             return
         current = self.tr.strokes[axis].current()
-        if current is not None and current.direction == -pending.direction and self.swipe_like(current):
-            return  # a fast stroke the other way is under way: wait for it to end
+        if current is not None and current.direction == -pending.direction and (
+                self.swipe_like(current) or self.turned_into(pending, current)):
+            return  # a fast stroke the other way, or one the hand turned straight into, is under way: wait for it
         del self.tr.pending[axis]
         self.emit(self.swipe_name(pending), GestureState.COMPLETE, self.swipe_confidence(pending), pending.end)
+
+    def turned_into(self, stroke: Stroke, current: Stroke) -> bool:
+        """Did the hand turn from `stroke` straight into `current` (no hold between them), not longer
+        ago than a swipe lasts, and is `current` heading like a sideways swipe but for its speed (the
+        hand up, moving sideways `swipe_dominance` times faster than up or down now)? A wind-up turns
+        straight into its swipe, which may take a while to gather speed; an arm dropping back to rest
+        after a swipe goes down as much as back."""
+        return (current.axis == X and current.start.t <= stroke.end.t
+                and current.duration <= self.r.swipe_max_duration_s and self.raised(current, current.lowest)
+                and abs(float(current.end.v[X])) >= self.r.swipe_dominance * abs(float(current.end.v[Y])))
+
+    def strength(self, stroke: Stroke) -> float:
+        """How far and how fast the stroke's core goes: travel times mean speed (mm^2/s). Of a swipe and
+        its wind-up or its return, the swipe is the stronger: the other is slower, shorter or both."""
+        core = self.core(stroke)
+        return core.travel ** 2 / max(core.duration, 1e-3)
 
     def wave_stroke(self, stroke: Stroke) -> bool:
         """One swing of a wave: quick, side to side, the hand up in front of the chest or higher, not

@@ -70,8 +70,9 @@ class GestureRules(BaseModel):
         "of a drop may be going back there")
     swipe_confirm_s: float = Field(
         0.12, ge=0, description="after a stroke ends, how long to watch whether a comparable stroke the other "
-        "way follows (then the first was a wind-up, or both belong to a wave); this is the latency of a swipe "
-        "that may be a wind-up (see `swipe_sure_reach_mm`)")
+        "way follows (then the stronger of the two is the swipe, the other its wind-up or return, or both "
+        "belong to a wave); this is the latency of a swipe that may be a wind-up (see `swipe_sure_reach_mm`). "
+        "A sideways stroke the hand turned straight into is watched to its end")
     swipe_rest_s: float = Field(
         0.3, ge=0, description="a sideways swipe started from rest when its hand, seen throughout, moved less "
         "than `swipe_rest_mm` along the swipe's axis over this long before it (a wind-up or a wave's swing "
@@ -83,12 +84,18 @@ class GestureRules(BaseModel):
         "the spine on its hand's own side (beyond the shoulder, the arm held out), with no other hand moving "
         "by `swipe_comparable_ratio` of its travel, is no wind-up: it completes without `swipe_confirm_s`, "
         "as soon as it settles")
+    swipe_sure_start_mm: float = Field(
+        150.0, description="and starts in front of the body: no further out than this from the spine on its "
+        "hand's own side, inside the shoulder (MSRC-12's pushes to the side start 300 mm across the body to "
+        "113 mm out; a hand drawn out from in front of its shoulder to wind up a swipe the other way starts "
+        "further out). Further out, the swipe waits `swipe_confirm_s` like any other")
     swipe_settle_fraction: float = Field(
         0.35, ge=0, le=1, description="such a swipe has settled once its speed along its axis falls below "
         "this share of its peak (the arm decelerates into its reach: little travel is left)")
     swipe_comparable_ratio: float = Field(
         0.4, gt=0, le=1, description="a following opposite stroke with at least this share of the first's "
-        "travel, fast and dominant like a swipe, makes the first a wind-up (or part of a wave); another hand "
+        "travel, fast and dominant like a swipe, is compared with it: the stronger (travel times mean speed) "
+        "is the swipe, the weaker its wind-up or return (or both are part of a wave); another hand "
         "moving the other way by this share at the same time makes it two-handed (a clap), not a swipe or wave")
 
     # --- wave (and oscillations in general) ------------------------------------------------------

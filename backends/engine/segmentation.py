@@ -1,8 +1,8 @@
 """User segmentation from one depth image: no learned background, so it works from the first frame.
 
 On a coarse grid (about 160 columns whatever the sensor's resolution) the depth becomes world
-millimetres; a floor plane found by RANSAC among near-horizontal planes is removed; depth jumps
-cut the image into surfaces; every person-sized surface (judged in mm and m^2, not pixels) between
+millimetres; a floor plane found by RANSAC among near-horizontal planes below the camera, with
+nothing under it, is removed; depth jumps cut the image into surfaces; every person-sized surface (judged in mm and m^2, not pixels) between
 `min_distance_mm` and `max_distance_mm` (0.5 to 4.5 m) is a person (up to `max_people`, nearest first;
 someone so close that the picture's bottom cuts them off when a head sits on shoulders), and each
 small surface within arm's reach in front of a person (a forearm pointed at the camera is cut off
@@ -30,7 +30,8 @@ SHOULDERS_MM = 400  # the shoulders are within this of the crown (0.18 x height:
 SHOULDERS_TO_HEAD = 1.5  # shoulders are at least this many heads wide (a 5-year-old 1.8, an adult 2.6)
 ABOVE_CROWN_MM = 300  # looked at straight above the crown ...
 BEHIND_MM = 150  # ... for a surface less than this behind it (an own head cut off is ~100 mm behind the chest)
-FLOOR_UNDER = 0.01  # share of the lower cells under a floor still kept: more, and it is looked for afresh
+FLOOR_UNDER = 0.01  # share of the lower cells under a floor found or kept: more, and it is no floor
+SHADOW_MM = 75  # a depth camera's shadow beside a nearer surface is at most its baseline wide there (Kinect: 75 mm)
 MAX_COVERED = 0.25  # share of the crown's columns with such a surface above: more, and it is no crown
 
 
@@ -47,12 +48,23 @@ class SegmentationOptions(BaseModel):
     floor_tolerance_mm: float = Field(60, gt=0, description="points this close to the floor plane are floor")
     floor_max_tilt_deg: float = Field(40, gt=0, lt=90, description="how far the floor normal may lean from the camera's up")
     floor_min_span_mm: float = Field(1000, gt=0, description="a floor is at least this wide (a seated lap is not)")
+    min_camera_height_mm: float = Field(300, ge=0, description=(
+        "the camera is at least this high above the floor: a plane through the camera is seen edge on, "
+        "so any band of the picture fits it (a wall and a child's legs, when no floor is in view)"))
     floor_every: int = Field(30, ge=1, description=(
         "a floor found is kept while it still fits (as many cells on it as when looking for one, "
         "next to none under it), for at most this many frames, then looked for afresh (while none "
         "is found, in every frame); 1 looks for it in every frame"))
     min_user_area_m2: float = Field(0.08, gt=0, description="frontal area of the smallest user (a head and shoulders)")
     min_user_height_mm: float = Field(450, gt=0)
+    min_whole_user_height_mm: float = Field(900, gt=0, description=(
+        "a surface this tall, cell to cell, may be a whole person whatever is under it (a squatting "
+        "adult, a small child; a clip with its background removed); a shorter one must stand on "
+        "something (max_gap_below_mm)"))
+    max_gap_below_mm: float = Field(500, gt=0, description=(
+        "a surface shorter than a whole person has, within this under its lowest cells, a reading "
+        "(legs, the floor, what hides them), a nearer surface's shadow or the picture's end: "
+        "nobody floats over a taller gap without readings (a shelf over a dark cabinet)"))
     min_cut_user_height_mm: float = Field(250, gt=0, description=(
         "a surface going on below the picture (someone close to the camera) spans at least this in "
         "height, cell to cell, not the box at its mean depth: a 5-year-old's crown to shoulders"))
@@ -209,7 +221,9 @@ class Segmenter:
         return cells >= 50 and on >= max(30, 0.1 * cells) and under <= FLOOR_UNDER * cells
 
     def _find_floor(self, g: Grid, valid: np.ndarray, samples: int = 600, hypotheses: int = 48) -> np.ndarray | None:
-        """RANSAC among near-horizontal planes with most points above them; the last floor competes too."""
+        """RANSAC among near-horizontal planes below the camera with most points above them; the
+        last floor competes too. The best is the floor if it has (almost) nothing under it, as
+        `_fits` asks of it later: a level plane across a wall has the rest of the wall under it."""
         o = self.options
         third = valid.shape[0] // 3  # the floor shows in the lower part of a level camera's view
         idx = np.flatnonzero(valid[third:]) + third * valid.shape[1]
@@ -228,7 +242,8 @@ class Segmenter:
         planes = np.concatenate([n, d[:, None]], axis=1)
         if self._floor is not None:
             planes = np.vstack([planes, self._floor])
-        planes = planes[planes[:, 1] >= np.cos(np.radians(o.floor_max_tilt_deg))]
+        planes = planes[(planes[:, 1] >= np.cos(np.radians(o.floor_max_tilt_deg)))
+                        & (planes[:, 3] >= o.min_camera_height_mm)]
         if len(planes) == 0:
             return None
         heights = pts @ planes[:, :3].T + planes[:, 3]
@@ -237,7 +252,7 @@ class Segmenter:
         score = inliers.sum(axis=0) - 4 * below.sum(axis=0)  # a floor has (almost) nothing under it
         best = int(np.argmax(score))
         support = pts[inliers[:, best]]
-        if len(support) < max(30, 0.1 * len(pts)):
+        if len(support) < max(30, 0.1 * len(pts)) or below[:, best].sum() > FLOOR_UNDER * len(pts):
             return None
         high, low = percentiles(support[:, 0], (95, 5))
         span = high - low
@@ -326,6 +341,37 @@ class Segmenter:
                 & (z > 0) & (z < depth + BEHIND_MM))
         return float(over.any(axis=0).mean()) <= MAX_COVERED
 
+    def _stands_on_something(self, g: Grid, labels: np.ndarray, box: np.ndarray, k: int, depth: float) -> bool:
+        """Whether surface `k`, above the picture's bottom, is a person's whole height, or the
+        sensor sees something under it: under most of its lowest cells (those within two rows of
+        its bottom), within `max_gap_below_mm`, a reading (the person's legs, the floor, what
+        hides them), the shadow a nearer surface casts beside itself (a cell without a reading
+        within SHADOW_MM of a nearer reading in its row: the legs of someone behind a child near
+        the camera), or the picture's end. A person does not float over a tall gap; furniture
+        over a dark cabinet does (the real OpenNI take's shelf: 0.7 m tall over 1.1 m of nothing)."""
+        o = self.options
+        x, y, w, h = (int(v) for v in box[:4])
+        mask = labels[y:y + h, x:x + w] == k
+        if float(np.ptp(g.y[y:y + h, x:x + w][mask])) >= o.min_whole_user_height_mm:
+            return True
+        gap = math.ceil(o.max_gap_below_mm / (g.cell_y * depth))  # rows the gap may span
+        reach = math.ceil(SHADOW_MM / (g.cell_x * o.min_distance_mm))  # columns a shadow may span
+        nearer = depth - o.edge_mm - o.edge_ratio * depth
+        lowest = h - 1 - np.argmax(mask[::-1], axis=0)  # each column's lowest cell (row in the box)
+        cols = np.flatnonzero(mask.any(axis=0) & (lowest >= lowest.max() - 2))
+        seen = 0
+        for c in x + cols:
+            first = y + lowest[c - x] + 1
+            rows = slice(first, first + gap)
+            if first + gap > labels.shape[0] or (g.z[rows, c] > 0).any():
+                seen += 1
+                continue
+            lo = max(0, c - reach)
+            side = g.z[rows, lo:c + reach + 1]
+            apart = np.abs(np.arange(lo, lo + side.shape[1]) - c) * g.cell_x * side  # mm at the reading's depth
+            seen += bool(((side > 0) & (side < nearer) & (apart <= SHADOW_MM)).any())
+        return seen >= 0.5 * cols.size
+
     def _pick_people(self, g: Grid, labels: np.ndarray, count: int,
                      stay: bool) -> list[tuple[np.ndarray, np.ndarray]]:
         """(mask, centre of the main surface) per person, nearest first."""
@@ -352,6 +398,8 @@ class Segmenter:
         for k in np.flatnonzero(person & ~tall & (bottom >= labels.shape[0]) & (top > 0)):
             tall[k] = self._head_and_shoulders(g, labels, boxes[k], k)
         person &= tall
+        for k in np.flatnonzero(person & (bottom < labels.shape[0])):
+            person[k] = self._stands_on_something(g, labels, boxes[k], k, mean_z[k])
         if not person.any():
             return []
         sized = person.copy()

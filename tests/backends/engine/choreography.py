@@ -128,11 +128,13 @@ def swipe_up(travel: float = 550.0, duration: float = 0.4) -> Performance:
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 
 
-def windup_swipe() -> Performance:
-    """A 250 mm wind-up to the performer's right, then a 650 mm swipe to the left."""
-    a = (150.0, 350.0, -400.0)
-    right = (rest(Side.RIGHT).hold(0.3).then(0.6, a).hold(0.2).then(0.35, (400.0, 350.0, -400.0))
-             .then(0.45, (-250.0, 350.0, -400.0)).hold(0.4).then(0.8, REST[Side.RIGHT]))
+def windup_swipe(windup: float = 250.0, start: tuple[float, float, float] = (150.0, 350.0, -400.0),
+                 still: float = 0.2, windup_s: float = 0.35, to: float = -250.0) -> Performance:
+    """The right hand, raised to `start` and held `still` s, winds up `windup` mm out to the performer's
+    right in `windup_s` s, then turns straight into a swipe to the left, across the body to `to`."""
+    out = (start[0] + windup, start[1], start[2])
+    right = (rest(Side.RIGHT).hold(0.3).then(0.6, start).hold(still).then(windup_s, out)
+             .then(0.45, (to, start[1], start[2])).hold(0.4).then(0.8, REST[Side.RIGHT]))
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 
 
@@ -160,6 +162,21 @@ def push_out(travel: float = 500.0, duration: float = 0.5, windup: float = 0.0,
     if back_after is not None:
         right = right.hold(back_after).then(back_s, held)
     right = right.hold(0.5).then(0.8, REST[Side.RIGHT])
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
+
+
+def pushes_with_returns(times: int = 3, inner: float = -100.0, outer: float = 550.0, out_s: float = 0.4,
+                        hold: float = 0.5, back_s: float = 0.9) -> Performance:
+    """MSRC-12's "push right" repeated: the right hand, up in front of the body at `inner`, pushed out to
+    `outer` in `out_s` s, held there `hold` s, brought back across in `back_s` s and turned straight
+    into the next push, `times` times."""
+    a, b = (inner, 100.0, -350.0), (outer, 100.0, -350.0)
+    right = rest(Side.RIGHT).hold(0.3).then(0.6, a).hold(0.5)
+    for i in range(times):
+        right = right.then(out_s, b).hold(hold)
+        if i < times - 1:
+            right = right.then(back_s, a)
+    right = right.hold(0.4).then(0.8, REST[Side.RIGHT])
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 
 

@@ -7,6 +7,7 @@ import numpy as np
 
 from host import DepthFrame
 from sources.synthetic import SyntheticOptions, SyntheticSource
+from sources.synthetic.source import CAMERA_HEIGHT_MM
 
 WAVE_THEN_REST = [{"action": "idle", "duration": 0.5}, {"action": "wave"}, {"action": "idle", "duration": 1.5}]
 SWIPE = [{"action": "idle", "duration": 0.4}, {"action": "swipe_left"}, {"action": "idle", "duration": 0.5}]
@@ -20,13 +21,18 @@ def walk(x_mm: float, seconds: float) -> dict:
     return {"action": "walk", "x_mm": x_mm, "duration": seconds}
 
 
-def frames(steps: list[dict] | None = None, seed: int = 3, **options) -> list[DepthFrame]:
+def frames(steps: list[dict] | None = None, seed: int = 3, wall_mm: float | None = None,
+           **options) -> list[DepthFrame]:
     """Every frame of a seeded synthetic performance (640x480 with floor and back wall unless
-    told): one performer's `steps`, or several in `performers`, each with its truth in Truth.users."""
+    told): one performer's `steps`, or several in `performers`, each with its truth in Truth.users.
+    `wall_mm`: the back wall this far from the camera (the source puts it 1.5 m behind the farthest
+    performer)."""
     if steps is not None:
         options["choreography"] = steps
     source = SyntheticSource(SyntheticOptions(seed=seed, **options))
     source.open()
+    if wall_mm is not None:
+        source.room = source.raster.room(-CAMERA_HEIGHT_MM, wall_mm)
     out = []
     while (frame := source.read()) is not None:
         out.append(frame)

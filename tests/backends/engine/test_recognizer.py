@@ -57,6 +57,21 @@ def test_the_wind_up_before_a_swipe_is_not_a_swipe_the_other_way():
     assert not [e for e in events if e.name == "swipe_right"]
 
 
+def test_a_wind_up_drawn_out_from_rest_then_turned_straight_into_a_swipe_across_is_not_a_swipe():
+    """The hand held in front of its shoulder, drawn 400 mm out (a stroke that is a swipe on its own,
+    from rest, ending with the arm out), then swept across the body at once: the stroke across, further
+    and faster, is the swipe. Starting outside the shoulder, the first stroke waits `swipe_confirm_s`
+    and the stroke the hand turned straight into is watched to its end."""
+    events = perform(c.windup_swipe(windup=400.0, start=(200.0, 250.0, -350.0), still=0.5, windup_s=0.4, to=-350.0))
+    assert completed(events) == ["swipe_left"]
+
+
+def test_pushes_out_with_the_hand_brought_back_across_in_between_are_swipes_and_the_returns_are_not():
+    """MSRC-12's "push right" repeated: each slower return across the body turns straight into the next
+    push, which is the stronger stroke (further and faster), so the return was its wind-up."""
+    assert completed(perform(c.pushes_with_returns(times=3))) == ["swipe_right"] * 3
+
+
 PUSHED_OUT = 0.3 + 0.6 + 0.4 + 0.5  # when c.push_out's sweep ends
 
 
