@@ -11,10 +11,10 @@ matched against the rules (rules.py):
   into ends) unless a comparable stroke the other way follows: then the stronger of the two
   (further and faster) is the swipe and the other its wind-up or return, or both are part of a
   back-and-forth (neither is a swipe); the third of quick alternating strokes is a wave's, never
-  a swipe, but sweeps slower than a wave's swings are swipes each. A reversal of a frame or two is a tracker's glitch: the
-  strokes either side of it are one. If the hand leaves the view meanwhile, the swipe completes,
-  except a swipe down: a hand lost after a stroke down went back to rest (a swipe down waits
-  while its hand is unseen).
+  a swipe, but sweeps slower than a wave's swings are swipes each. A reversal of a frame or two
+  is a tracker's glitch: the strokes either side of it are one. If the hand leaves the view
+  meanwhile, the swipe completes, except a swipe down: a hand lost after a stroke down went back
+  to rest (a swipe down waits while its hand is unseen).
 - WAVE: several direction reversals of horizontal swings, from the wrist (4 cm) to the whole arm,
   each quick, reaching the shoulders' height or above, with the other hand elsewhere (hands at
   the eyes or on the head, or clapping, are no wave).

@@ -2,9 +2,11 @@
 
 On a coarse grid (about 160 columns whatever the sensor's resolution) the depth becomes world
 millimetres; a floor plane found by RANSAC among near-horizontal planes below the camera, with
-nothing under it, is removed; depth jumps cut the image into surfaces; every person-sized surface (judged in mm and m^2, not pixels) between
-`min_distance_mm` and `max_distance_mm` (0.5 to 4.5 m) is a person (up to `max_people`, nearest first;
-someone so close that the picture's bottom cuts them off when a head sits on shoulders), and each
+nothing under it, is removed; depth jumps cut the image into surfaces; every person-sized surface
+(judged in mm and m^2, not pixels) between `min_distance_mm` and `max_distance_mm` (0.5 to 4.5 m)
+that stands on something (nobody floats over a tall gap without readings) is a person (up to
+`max_people`, nearest first; someone so close that the picture's bottom cuts them off when a head
+sits on shoulders), and each
 small surface within arm's reach in front of a person (a forearm pointed at the camera is cut off
 from the body by its own depth edge) joins the nearest such person. Clips whose background is
 already removed are simply the easy case: no floor is found and the user is the only surface.
@@ -430,8 +432,8 @@ class Segmenter:
 
 
 def _boxes(labels: np.ndarray, which: np.ndarray) -> np.ndarray:
-    """(label, (x, y, w, h)): the bounding boxes of the labels in `which`, zeros for the rest (only
-    the few surfaces that could be people need one)."""
+    """One row (x, y, w, h) per label: the bounding box of each label in `which`, zeros for the
+    rest (only the few surfaces that could be people need one)."""
     boxes = np.zeros((len(which), 4), np.int64)
     for k in np.flatnonzero(which):
         boxes[k] = cv2.boundingRect((labels == k).view(np.uint8))

@@ -8,9 +8,9 @@ and shoot). The classifier answers the other question, "which of these gestures,
 the shape of the last WINDOW postures (where the hands were, where they are relative to each
 other, how they moved). It is trained when the gestures are loaded, from the repetitions stored in
 their files: the last (1 - EARLY) of each repetition is that gesture, its beginning, the rest
-pose before it and the rest after it are "none", and every other loaded gesture's repetitions are negatives. Nothing is
-stored: files stay as `issv learn` wrote them, and a set of gestures loaded together is told
-apart by what it contains.
+pose before it and the rest after it are "none", and every other loaded gesture's repetitions are
+negatives. Nothing is stored: files stay as `issv learn` wrote them, and a set of gestures loaded
+together is told apart by what it contains.
 
 It must also say "none" to motions it never saw. A linear classifier cannot: hands on the head
 (MSRC-12 had_enough) lie beyond hands at the eyes (goggles) along the very direction that tells

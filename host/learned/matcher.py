@@ -14,11 +14,12 @@ cannot tell wind_it_up from goggles or shoot (the hands go up to the front in al
 classifier alone fires on gestures it never saw (nothing tells it about a bow). Together, on
 MSRC-12 taught by p01-p03 and scored leave-one-teacher-out: recall 0.58 with false fires 0.08
 (templates alone, at their best threshold: 0.48 with 0.09; before the classifier learned to say
-"none" to motions it never saw: 0.59 with 0.10, and 0.77 with 0.13 on p04-p10, now 0.78 with 0.10). The threshold factor (learner.py), AGREE, HOLD
-and the classifier's shifts were chosen there, as the highest recall with false fires <= 0.08 (a
-margin: people other than the teachers gave about 1.3 times the teachers' false fires); bench/learned.py
-gives the figures, on the teachers and on p04-p10. All templates of all gestures sit in one
-array, so a frame costs a handful of numpy operations whatever their number.
+"none" to motions it never saw: 0.59 with 0.10, and 0.77 with 0.13 on p04-p10, now 0.78 with
+0.10). The threshold factor (learner.py), AGREE, HOLD and the classifier's shifts were chosen
+there, as the highest recall with false fires <= 0.08 (a margin: people other than the teachers
+gave about 1.3 times the teachers' false fires); bench/learned.py gives the figures, on the
+teachers and on p04-p10. All templates of all gestures sit in one array, so a frame costs a
+handful of numpy operations whatever their number.
 
 A gesture is IN_PROGRESS (said once per attempt) when a path has come UNDER_WAY of the way to its
 `fires_at` point with a score below the threshold; the attempt is over when it completes or when
