@@ -41,6 +41,8 @@ class BodyOptions(BaseModel):
     trunk_height_mm: float = Field(550, gt=0, description="shoulder line to hips")
     joint_depth_mm: float = Field(110, ge=0, description="joints lie this far behind the body's front surface")
     head_radius_mm: float = Field(150, gt=0, description="half the width of the column the head is looked for in")
+    head_width_mm: float = Field(120, gt=0, description=(
+        "narrowest a head's top (crown_above_head_mm deep) is; a hand's is narrower"))
     shoulder_below_crown_mm: float = Field(350, gt=0, description="shoulder joints below the top of the head")
     crown_above_head_mm: float = Field(60, ge=0, description="top of the head (as the coarse grid sees it) above the head joint")
     hidden_crown_hold_s: float = Field(0.5, ge=0, description=(
@@ -103,7 +105,8 @@ class BodyEstimator:
             outline = core
         centre_x = float(median(g.x[core]))
         shoulder_y = float(percentile(g.y[outline], 98)) - o.shoulder_below_core_top_mm
-        spine_strip = mask & (np.abs(g.x - centre_x) < o.head_radius_mm)
+        head_x = self._leaning_head_x(g.x, g.y, mask, centre_x)
+        spine_strip = mask & (np.abs(g.x - head_x) < o.head_radius_mm)
         column = spine_strip & (np.abs(g.z - ref) < o.plane_band_mm)
         crown = self._crown(g.y, column, spine_strip & (g.z <= ref - o.plane_band_mm), o.head_radius_mm)
         if crown is not None:
@@ -141,6 +144,23 @@ class BodyEstimator:
         whole[box] = core
         return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface,
                     float(head[2]) - o.joint_depth_mm, whole)
+
+    def _leaning_head_x(self, x: np.ndarray, y: np.ndarray, mask: np.ndarray, centre_x: float) -> float:
+        """Where across to look for the head: above the spine, unless the user's top is a head-wide
+        crest cut by the edge of that column (a performer walking in bent forward or leaning: the
+        head 200+ mm to the side would else leave its far side beside the head joint, taken for
+        a raised hand); then above the crest. A hand raised beside the head is narrower than a
+        head, or stands clear above it."""
+        o = self.options
+        top = self._top(y, mask)
+        if top is None:
+            return centre_x
+        crest = mask & (y > top - o.crown_above_head_mm)
+        xs = x[crest]
+        inside = np.abs(xs - centre_x) < o.head_radius_mm
+        if not inside.any() or inside.mean() >= 0.5 or np.ptp(xs) < o.head_width_mm or np.ptp(xs) > 2 * o.head_radius_mm:
+            return centre_x
+        return float(median(xs))
 
     @staticmethod
     def _top(y: np.ndarray, cells: np.ndarray) -> float | None:
