@@ -147,10 +147,10 @@ class BodyEstimator:
 
     def _leaning_head_x(self, x: np.ndarray, y: np.ndarray, mask: np.ndarray, centre_x: float) -> float:
         """Where across to look for the head: above the spine, unless the user's top is a head-wide
-        crest cut by the edge of that column (a performer walking in bent forward or leaning: the
-        head 200+ mm to the side would else leave its far side beside the head joint, taken for
-        a raised hand); then above the crest. A hand raised beside the head is narrower than a
-        head, or stands clear above it."""
+        crest straddling the edge of that column, a third to a half of it inside (a performer
+        walking in bent forward: the head 200+ mm to the side would else leave its far side beside
+        the head joint, taken for a raised hand); then above the crest. A hand raised beside the
+        head is narrower than a head, or wider with it, or crowns the user mostly outside."""
         o = self.options
         top = self._top(y, mask)
         if top is None:
@@ -158,7 +158,7 @@ class BodyEstimator:
         crest = mask & (y > top - o.crown_above_head_mm)
         xs = x[crest]
         inside = np.abs(xs - centre_x) < o.head_radius_mm
-        if not inside.any() or inside.mean() >= 0.5 or np.ptp(xs) < o.head_width_mm or np.ptp(xs) > 2 * o.head_radius_mm:
+        if not 1 / 3 <= inside.mean() < 1 / 2 or not o.head_width_mm <= np.ptp(xs) <= 2 * o.head_radius_mm:
             return centre_x
         return float(median(xs))
 
