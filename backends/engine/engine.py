@@ -25,7 +25,7 @@ from pydantic import Field
 from backends.engine.people import PeopleOptions, PeopleTracker
 from backends.engine.recognizer import GestureRecognizer
 from backends.engine.rules import GestureRules
-from backends.engine.segmentation import Segment, Segmenter, bounding_box
+from backends.engine.segmentation import BEYOND_USER, Segment, Segmenter, bounding_box
 from backends.engine.tracker import HandTracker, TrackerOptions, TrackResult
 from host import DepthFrame, Gesture, GestureType, Hand, HandState, Joint, User
 
@@ -146,11 +146,11 @@ class Engine:
 
     @staticmethod
     def _box(segment: Segment | None) -> Segment | None:
-        """The segment cut down to the user's box plus two cells, clamped to the grid."""
+        """The segment cut down to the user's box plus BEYOND_USER cells, clamped to the grid."""
         if segment is None:
             return None
         g, mask = segment.grid, segment.mask
-        box = bounding_box(mask, 2)
+        box = bounding_box(mask, BEYOND_USER)
         if box is None or mask[box].size >= 0.8 * mask.size:
             return segment
         return Segment(mask[box], g.crop(box))

@@ -32,6 +32,7 @@ SHOULDERS_MM = 400  # the shoulders are within this of the crown (0.18 x height:
 SHOULDERS_TO_HEAD = 1.5  # shoulders are at least this many heads wide (a 5-year-old 1.8, an adult 2.6)
 ABOVE_CROWN_MM = 300  # looked at straight above the crown ...
 BEHIND_MM = 150  # ... for a surface less than this behind it (an own head cut off is ~100 mm behind the chest)
+BEYOND_USER = 2  # cells around a user its body frame and hand detector look at (hole filling, erosion, gap bridging)
 FLOOR_UNDER = 0.01  # share of the lower cells under a floor found or kept: more, and it is no floor
 SHADOW_MM = 75  # a depth camera's shadow beside a nearer surface is at most its baseline wide there (Kinect: 75 mm)
 MAX_COVERED = 0.25  # share of the crown's columns with such a surface above: more, and it is no crown

@@ -15,7 +15,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.quantiles import median, percentile
-from backends.engine.segmentation import Segment, bounding_box
+from backends.engine.segmentation import BEYOND_USER, Segment, bounding_box
 from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
 
 
@@ -90,7 +90,7 @@ class BodyEstimator:
         # reaches one cell beyond the user, the erosion needs one empty cell beyond to eat into
         # the user from that side, and an opening never grows past what it opens.
         box = bounding_box(mask)
-        pad = _padding(box, mask.shape, 2)
+        pad = _padding(box, mask.shape, BEYOND_USER)
         g, mask = g.crop(box), mask[box]
         # The trunk's position and depth come from the part near its own plane (an arm held in
         # front would drag them); the shoulder line from the lower of two estimates that an arm
