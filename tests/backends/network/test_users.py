@@ -18,7 +18,8 @@ def duet(tmp_path) -> tuple:
     session = write_session(tmp_path / "duet.txt", frames, bodies=bodies)
     osc_port = free_port()
     profile = tmp_path / "serve.toml"
-    profile.write_text(f'[backend]\nname = "osc-in"\nport = {osc_port}\nend_after_idle_s = 1.5\n')
+    # the users time out (LOST) a second before the stream ends, so the LOST frames are always in it
+    profile.write_text(f'[backend]\nname = "osc-in"\nport = {osc_port}\nlost_timeout_s = 0.5\nend_after_idle_s = 1.5\n')
     return session, profile, osc_port
 
 
