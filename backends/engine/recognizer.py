@@ -42,6 +42,7 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from backends.engine.body_reference import BodyReference
+from backends.engine.rhythm import Rhythm
 from backends.engine.rules import GestureRules
 from backends.engine.strokes import X, Y, Z, AxisStrokes, Sample, Stroke
 from host import CANONICAL_GESTURES, Gesture, GestureState, GestureType, Hand, Side, Vec3
@@ -102,7 +103,7 @@ class _HandTrack:
     chains: dict[int, list[Stroke]] = field(default_factory=lambda: {X: [], Y: [], Z: []})  # alternating strokes
     waving: list[Stroke] = field(default_factory=list)  # alternating side-to-side strokes of a wave
     announced: set = field(default_factory=set)  # IN_PROGRESS already sent, keyed by attempt
-    wave_done_at: float = float("-inf")  # start time of the chain whose wave was completed
+    wave_done_at: float = float("-inf")  # when a wave last completed: swings begun before it were part of it
     raised_since: float | None = None  # when the hand last went up above the head
     raised_done: bool = False
     slow_since: float | None = None  # since when the raised hand has been moving slowly
@@ -115,6 +116,7 @@ class _HandTrack:
     def __post_init__(self) -> None:
         r = self.rules
         self.strokes = {a: AxisStrokes(a, r.stroke_hysteresis_mm, r.stroke_stop_s) for a in (X, Y, Z)}
+        self.rhythm = Rhythm(r)
 
     def joined(self, stroke: Stroke) -> Stroke | None:
         """The stroke to judge, or None for a reversal of a frame or two (a tracker's jitter), held
@@ -278,6 +280,7 @@ class _Hand:
                     self.click(done)
                 else:
                     self.stroke_ended(done, reversed_)
+        self.rhythmic_wave(s)
         self.swipe_under_way()
         self.resolve_all()
         self.click_under_way()
@@ -566,9 +569,28 @@ class _Hand:
                                  min(1.0, reversals / (2 * self.r.wave_min_reversals)))
         if reversals >= self.r.wave_min_reversals:
             if self.emit("wave", GestureState.COMPLETE, confidence, stroke.end):
-                self.tr.wave_done_at = first.start.t
+                self.tr.wave_done_at = self.t
         elif reversals >= max(1, self.r.wave_min_reversals - 1):  # one reversal is also a wind-up and its swipe
             self.announce("wave", first.start.t, confidence, stroke.end)
+
+    def rhythmic_wave(self, s: Sample) -> None:
+        """A wave told by its rhythm (rhythm.py): swings too small for strokes, keeping a wave's time,
+        with the other hand elsewhere and the body upright as for any wave."""
+        rhythm, r = self.tr.rhythm, self.r
+        swing = rhythm.update(s)
+        if swing is None:
+            return
+        k = self.rec.size(swing.start)
+        run = rhythm.add(swing, rhythm.in_time(swing, k) and self.tilt(swing) <= r.wave_max_tilt_deg
+                         and self.hands_apart(swing) >= r.wave_min_hands_apart_mm * k)
+        if not run or run[0].start.t <= self.tr.wave_done_at:
+            return
+        confidence = _confidence(min(1.0, len(run) / (2 * r.wave_rhythm_min_swings)))
+        if len(run) >= r.wave_rhythm_min_swings:
+            if self.emit("wave", GestureState.COMPLETE, confidence, swing.end):
+                self.tr.wave_done_at = self.t
+        elif len(run) == r.wave_rhythm_min_swings - 1:
+            self.announce("wave", run[0].start.t, confidence, swing.end)
 
     # --- click --------------------------------------------------------------------------------
     def click_like(self, stroke: Stroke) -> bool:

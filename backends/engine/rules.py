@@ -137,6 +137,22 @@ class GestureRules(BaseModel):
     wave_max_below_shoulder_mm: float = Field(
         150.0, description="every swing of a wave reaches no lower than this below the shoulders: in "
         "front of the chest or higher (a hand swinging at the hip while walking is no wave)")
+    # a wave told by its rhythm (rhythm.py): swings too small for strokes, from the wrist or the fingers
+    wave_rhythm_hysteresis_mm: float = Field(
+        6.0, gt=0, description="a wave's side-to-side swing, however small, turns once the hand comes back "
+        "this far (a hand waved with the fingers swings the skeleton's hand joint 8-25 mm; the jitter of a "
+        "still hand reverses as much, but within a frame or two, quicker than any wave's swing)")
+    wave_rhythm_max_swing_s: float = Field(
+        0.33, gt=0, description="such a swing lasts from `wave_min_swing_s` to this (waving at 1.5-5 Hz); a "
+        "hand held at one side longer breaks the rhythm")
+    wave_rhythm_min_dominance: float = Field(
+        1.4, gt=0, description="and runs sideways this many times further than the hand moves up, down, "
+        "forward or back meanwhile (a raised hand's jitter and fidgeting move it along every axis alike)")
+    wave_rhythm_max_below_shoulder_mm: float = Field(
+        0.0, description="with the hand no lower than this below the shoulders throughout (the hand held up)")
+    wave_rhythm_min_swings: int = Field(
+        6, ge=2, description="that many such swings in a row are a wave (three times back and forth: a raised "
+        "hand's jitter or fidgeting keeps time for at most four)")
 
     # --- click / push -------------------------------------------------------------------------
     click_min_travel_mm: float = Field(200.0, gt=0, description="forward travel towards the camera")
