@@ -17,8 +17,8 @@ It must also say "none" to motions it never saw. A linear classifier cannot: han
 goggles from the other gestures, so it called them goggles all the more (71 of 127 had_enough
 instances of p04-p10 fired goggles). So each gesture is also trained on its own repetitions moved
 up, down, forward and back by more than its teachers vary, and with the hands that much further
-apart (`shifted`: arms lifted outstretched fired beat_both in 32 of 101 instances of p04-p10; 11
-with it), as "none", and the
+apart (`shifted`: arms lifted outstretched fired beat_both in 32 of 101 instances of p04-p10;
+with it beat_both fires in 11 windows of other gestures in all), as "none", and the
 standardised descriptors get their squares, with which a class can be bounded on both sides of
 each direction: a gesture is a region around where it was taught, not a half-space.
 
