@@ -43,7 +43,7 @@ import numpy as np
 
 from backends.engine.body_reference import BodyReference
 from backends.engine.rules import GestureRules
-from backends.engine.steadiness import lurch_speed
+from backends.engine.steadiness import lurch
 from backends.engine.strokes import X, Y, Z, AxisStrokes, Sample, Stroke
 from host import CANONICAL_GESTURES, Gesture, GestureState, GestureType, Hand, Side, Vec3
 
@@ -504,9 +504,8 @@ class _Hand:
         shortly before the stroke until now? Told only with a skeleton (an estimate from the hands
         follows the hands)."""
         r = self.r
-        return not self.rec.body_measured or lurch_speed(
-            self.tr.samples, stroke.start.t - r.steady_body_before_s, r.body_speed_window_s
-        ) <= r.steady_body_max_depth_speed_mm_s
+        return not self.rec.body_measured or lurch(self.tr.samples, stroke.start.t, r.steady_body_depth_window_s) <= (
+            r.steady_body_max_depth_move_mm * self.rec.size(stroke.start))
 
     def turned_into(self, stroke: Stroke, current: Stroke) -> bool:
         """Did the hand turn from `stroke` straight into `current` (no hold between them), not longer
