@@ -6,7 +6,9 @@ when given, else estimated from the hands, see body_reference.py), cut into stro
 matched against the rules (rules.py):
 
 - SWIPE_LEFT/RIGHT/UP/DOWN: one fast stroke, dominant along its axis, with the hand up from
-  rest (a sideways one may sweep out at waist height, see `raised`) and the body steady. It
+  rest (a sideways one may sweep out at waist height, see `raised`) and the body steady (not
+  rising or sinking; with a skeleton, not rocking towards or away from the camera from shortly
+  before the stroke until the swipe completes, as a kick or a lunge does, see steadiness.py). It
   completes `swipe_confirm_s` after it ends (or once a sideways stroke the hand turned straight
   into ends) unless a comparable stroke the other way follows: then the stronger of the two
   (further and faster) is the swipe and the other its wind-up or return, or both are part of a
@@ -495,14 +497,15 @@ class _Hand:
         self.confirm(pending)
 
     def confirm(self, stroke: Stroke) -> None:
-        """Complete a pending swipe, unless the body lurched forward or back since shortly before it."""
+        """Complete a pending swipe, unless the body has rocked forward or back meanwhile (a kick's
+        or a lunge's torso may move only after the arm's swing for balance)."""
         if self.body_steady(stroke):
             self.emit(self.swipe_name(stroke), GestureState.COMPLETE, self.swipe_confidence(stroke), stroke.end)
 
     def body_steady(self, stroke: Stroke) -> bool:
         """Did the torso keep from moving towards or away from the camera (a kick, a lunge, a step) from
-        shortly before the stroke until now? Told only with a skeleton (an estimate from the hands
-        follows the hands)."""
+        `steady_body_depth_window_s` before the stroke until now (distances for the performer's size)?
+        Told only with a skeleton: a body estimated from the hands follows the hands."""
         r = self.r
         return not self.rec.body_measured or lurch(self.tr.samples, stroke.start.t, r.steady_body_depth_window_s) <= (
             r.steady_body_max_depth_move_mm * self.rec.size(stroke.start))

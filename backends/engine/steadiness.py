@@ -1,10 +1,10 @@
 """How far the body lurches towards or away from the camera around a hand's stroke.
 
 A swipe is made by the arm of a body that stands: the torso may lean sideways into the sweep, but
-it does not rock forward or back. Kicking a ball, lunging or stepping does (the spine joint moves
-150-460 mm in a third of a second), and the arms swing across the body for balance meanwhile,
-which relative to the torso looks like a swipe. The torso's path is read back from a hand's
-samples (each holds the hand in the world and relative to the torso).
+it does not rock forward or back. Kicking a ball, lunging or stepping does (the spine joint of
+most kicks moves 150-290 mm within 0.3 s, real swipes' 40 mm at most), and an arm swings across
+the body for balance meanwhile, which relative to the torso looks like a swipe. The torso's path
+is read back from a hand's samples (each holds the hand in the world and relative to the torso).
 """
 from __future__ import annotations
 
