@@ -6,7 +6,9 @@ when given, else estimated from the hands, see body_reference.py), cut into stro
 matched against the rules (rules.py):
 
 - SWIPE_LEFT/RIGHT/UP/DOWN: one fast stroke, dominant along its axis, with the hand up from
-  rest (a sideways one may sweep out at waist height, see `raised`) and the body steady. It
+  rest (a sideways one may sweep out at waist height, see `raised`) and the body steady (not
+  rising or sinking; with a skeleton, not rocking towards or away from the camera from shortly
+  before the stroke until the swipe completes, as a kick or a lunge does, see steadiness.py). It
   completes `swipe_confirm_s` after it ends (or once a sideways stroke the hand turned straight
   into ends) unless a comparable stroke the other way follows: then the stronger of the two
   (further and faster) is the swipe and the other its wind-up or return, or both are part of a
@@ -44,6 +46,7 @@ import numpy as np
 from backends.engine.body_reference import BodyReference
 from backends.engine.rhythm import Rhythm
 from backends.engine.rules import GestureRules
+from backends.engine.steadiness import lurch
 from backends.engine.strokes import X, Y, Z, AxisStrokes, Sample, Stroke
 from host import CANONICAL_GESTURES, Gesture, GestureState, GestureType, Hand, Side, Vec3
 
@@ -298,7 +301,7 @@ class _Hand:
         for stroke in list(self.tr.pending.values()):
             if gone and _drop(stroke):
                 continue
-            self.emit(self.swipe_name(stroke), GestureState.COMPLETE, self.swipe_confidence(stroke), stroke.end)
+            self.confirm(stroke)
         self.tr.pending.clear()
 
     def core(self, stroke: Stroke) -> Stroke:
@@ -345,7 +348,7 @@ class _Hand:
             lowest = core.lowest
         return (core.peak_speed >= r.swipe_min_peak_speed_mm_s and core.dominance >= r.swipe_dominance
                 and self.raised(core, lowest) and core.duration <= r.swipe_max_duration_s
-                and core.body_speed <= r.steady_body_max_vertical_speed_mm_s)
+                and core.body_speed <= r.steady_body_max_vertical_speed_mm_s and self.body_steady(stroke))
 
     def raised(self, stroke: Stroke, lowest: float) -> bool:
         """Is the hand up from rest throughout the stroke? Above the rest line; or, sweeping sideways,
@@ -466,7 +469,7 @@ class _Hand:
         follows = pending is not None and self.comparable(stroke, pending)
         stronger = follows and self.strength(stroke) > self.strength(pending)
         if pending is not None and (not follows or not (stronger or reversed_)):
-            self.emit(self.swipe_name(pending), GestureState.COMPLETE, self.swipe_confidence(pending), pending.end)
+            self.confirm(pending)
         place = len(chain) if chain and chain[-1] is stroke else 1
         # the third of quick alternating strokes is a wave's; a sweep slower than a wave's swing is not
         waving = place > 2 and stroke.duration <= self.r.wave_max_stroke_s
@@ -494,7 +497,21 @@ class _Hand:
                 self.swipe_like(current) or self.turned_into(pending, current)):
             return  # a fast stroke the other way, or one the hand turned straight into, is under way: wait for it
         del self.tr.pending[axis]
-        self.emit(self.swipe_name(pending), GestureState.COMPLETE, self.swipe_confidence(pending), pending.end)
+        self.confirm(pending)
+
+    def confirm(self, stroke: Stroke) -> None:
+        """Complete a pending swipe, unless the body has rocked forward or back meanwhile (a kick's
+        or a lunge's torso may move only after the arm's swing for balance)."""
+        if self.body_steady(stroke):
+            self.emit(self.swipe_name(stroke), GestureState.COMPLETE, self.swipe_confidence(stroke), stroke.end)
+
+    def body_steady(self, stroke: Stroke) -> bool:
+        """Did the torso keep from moving towards or away from the camera (a kick, a lunge, a step) from
+        `steady_body_depth_window_s` before the stroke until now (distances for the performer's size)?
+        Told only with a skeleton: a body estimated from the hands follows the hands."""
+        r = self.r
+        return not self.rec.body_measured or lurch(self.tr.samples, stroke.start.t, r.steady_body_depth_window_s) <= (
+            r.steady_body_max_depth_move_mm * self.rec.size(stroke.start))
 
     def turned_into(self, stroke: Stroke, current: Stroke) -> bool:
         """Did the hand turn from `stroke` straight into `current` (no hold between them), not longer

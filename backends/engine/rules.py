@@ -221,6 +221,16 @@ class GestureRules(BaseModel):
     steady_body_max_vertical_speed_mm_s: float = Field(
         350.0, gt=0, description="no swipe or click while the torso rises or sinks faster than this "
         "(squatting, sitting down, lunging: the arms move for balance)")
+    steady_body_max_depth_move_mm: float = Field(
+        100.0, gt=0, description="no swipe while the torso moves further than this towards or away from the "
+        "camera within `steady_body_depth_window_s`, from that long before its stroke until it completes (for "
+        "an adult, scaled to the performer's size): most kicks move it 150-290 mm in that time, an arm swinging "
+        "across the body for balance. Real swipes move it 40 mm at most, a depth tracker's torso jumps up to "
+        "60 mm as the arm crosses in front of it. Sideways the body may move: a swipe may carry it, leaning "
+        "into the sweep. Only with a skeleton to tell")
+    steady_body_depth_window_s: float = Field(
+        0.3, gt=0, description="see `steady_body_max_depth_move_mm`: a kick or a lunge rocks the torso for "
+        "0.3-0.5 s, a depth tracker's torso that jumps for a frame drifts back within it")
     body_speed_window_s: float = Field(
         0.2, gt=0, description="the torso's speed is measured over this interval (longer than for hands: "
         "a skeleton's torso jitters by several mm per frame, a squat lasts a second)")

@@ -247,9 +247,9 @@ class RosPublisher:
                                               frame_seq=frame.seq, source_time=frame.timestamp,
                                               depth=depth is not None, backend=frame.backend or self.backend,
                                               users=users))
-        if depth is not None:
-            self._publish_depth(frame, depth)
+        if depth is not None:  # labels first: a subscriber holds a frame for them only until the next one
             self._publish_labels(frame)
+            self._publish_depth(frame, depth)
         if time.monotonic() - self._last_status >= HEARTBEAT_S:
             self._status(wire.HEARTBEAT)
 
@@ -273,7 +273,7 @@ class RosPublisher:
                 step=d.width * 2, data=d.data.tobytes()))
 
     def _publish_labels(self, frame: Frame) -> None:
-        """The frame's user labels (made here, only when a node listens), as its depth image was sent."""
+        """The frame's user labels (made here, only when a node listens), sent just before its depth image."""
         import sensor_msgs.msg
         labels = self.depth_options.labels_of(frame)
         if labels is None or not self.pubs["labels"].get_num_connections() or (image := labels()) is None:

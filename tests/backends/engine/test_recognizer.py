@@ -198,6 +198,29 @@ def test_an_arm_thrown_up_as_the_body_moves_is_no_swipe_up():
     assert completed(perform(leaning)) == []
 
 
+def _rocking(axis: int, mm: float, start: float = 1.1, seconds: float = 0.4):
+    """A torso that moves `mm` along `axis` from `start` for `seconds` and back 0.3 s later."""
+    def torso(t: float) -> np.ndarray:
+        out = float(c.min_jerk(np.array((t - start) / seconds)))
+        back = float(c.min_jerk(np.array((t - start - seconds - 0.3) / seconds)))
+        p = np.array([0.0, 0.0, 2500.0])
+        p[axis] += mm * (out - back)
+        return p
+    return torso
+
+
+def test_an_arm_swinging_across_as_the_body_rocks_forward_or_back_is_no_swipe():
+    """Kicking a ball (Kinder-Gator, MSRC-12), the torso rocks 150-460 mm towards or away from the camera
+    within a third of a second, and an arm swings across the body for balance; real swipes move it 40 mm
+    at most that way. A swipe may carry the body sideways (leaning into it) by as much as a kick."""
+    kick, lean, sway = c.swipe(to_right=True), c.swipe(to_right=True), c.swipe(to_right=True)
+    kick.torso, lean.torso, sway.torso = _rocking(2, 250.0), _rocking(0, 250.0), _rocking(2, 60.0)
+    assert completed(perform(kick)) == []
+    assert completed(perform(kick, with_body=False)) == ["swipe_right"]  # no skeleton to tell: the hands alone
+    assert completed(perform(lean)) == ["swipe_right"]
+    assert completed(perform(sway)) == ["swipe_right"]
+
+
 def test_a_wave_is_made_with_the_body_upright():
     """Leaning to the side with hands on the hips, bowing or lunging, a hand sways sideways relative to
     the tilted torso (Kinder-Gator's null motions); real waves lean 12 degrees at most."""

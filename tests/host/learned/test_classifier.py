@@ -48,3 +48,14 @@ def test_the_same_motion_well_away_from_where_it_was_taught_is_none(tmp_path):
         assert classifier.probabilities(describe_all(rep))[late].argmax() == 0
         above = rep + np.array([0.0, 0.7, 0.0] * 2)  # the whole motion higher: over the head
         assert classifier.probabilities(describe_all(above))[late][0] < 0.5
+
+
+def test_the_same_motion_with_the_arms_held_wide_is_none(tmp_path):
+    """Arms held out to the sides are not a gesture taught with the hands in front (MSRC-12: lifting
+    the outstretched arms fired beat_both): the repetitions with the hands further apart are "none"."""
+    taught = [_repetitions(tmp_path, m, Performer(seed=1)) for m in (circle, punch)]
+    classifier = Classifier.train(taught)
+    for rep in _repetitions(tmp_path, circle, Performer(size_mm=600.0, seed=9)):
+        late = int(0.75 * len(rep))
+        wide = rep + np.array([-0.6, 0.0, 0.0, 0.6, 0.0, 0.0])
+        assert classifier.probabilities(describe_all(wide))[late][0] < 0.5

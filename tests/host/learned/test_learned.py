@@ -76,6 +76,19 @@ def test_another_performer_is_recognised_and_only_as_the_right_gesture(taught, t
         assert all(0.1 < done - start < length for start, (done, _) in zip(starts, events))  # under way first
 
 
+
+@pytest.mark.parametrize("motion, rest_s", [(circle, 0.3), (punch, 0.1)], ids=["circle", "punch"])
+def test_repetitions_back_to_back_each_complete_once(taught, tmp_path, motion, rest_s):
+    """A performer repeating the gesture quickly with hardly a rest between (a rhythm beaten again
+    and again) completes it every time: a repetition needs a match that began after the last
+    completion, not a fixed rest after it (which swallowed most of them)."""
+    csv = tmp_path / "quick.csv"
+    middles = Performer(speed=1.6, seed=5).write(csv, motion, 6, rest_s=rest_s)
+    events = completes(taught, csv)
+    assert [n for _, n in events] == [motion.__name__] * 6, events
+    assert all(middle - 0.6 < t < middle + 0.8 for (t, _), middle in zip(events, middles))
+
+
 def lift(u: float) -> np.ndarray:
     """Both hands raised to the front of the chest and lowered: the circle without its rolling."""
     return REST + np.sin(np.pi * u) ** 0.5 * (np.array([[-0.05, 0.1, -0.6], [0.05, 0.1, -0.6]]) - REST)
