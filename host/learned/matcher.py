@@ -50,8 +50,11 @@ MOTION_WEIGHT = 0.5  # how much the direction of motion counts next to where the
 MOTION_SOFT = 1.0  # body units/s: motion slower than this counts less (direction of a still hand is noise)
 SKIP_WEIGHT = 2.0  # a skip covers two template postures: it counts twice
 FRESH = 0.2  # a completion needs a path begun after the last one, or at most this share of the typical length before
-AGREE = 0.85  # the classifier's probability a gesture needs to complete
+AGREE = 0.88  # the classifier's probability a gesture needs to complete with a template below the threshold
 SURE, SURE_RATIO = 0.999, 1.5  # ... or this probability with a template up to SURE_RATIO times the threshold away
+CLOSE, CLOSE_RATIO = 0.02, 0.62  # ... or only this one with a template within CLOSE_RATIO of the threshold
+# (ratio bound, probability above which) pairs: the closer the template, the less the classifier must agree
+TIERS = np.array([(CLOSE_RATIO, CLOSE), (1.0, AGREE), (SURE_RATIO, SURE)])
 HOLD = 3  # postures running that both must agree (a one-posture blip is no gesture)
 UNDER_WAY = 0.5  # share of the way to `fires_at` a path must have come, below threshold, to be IN_PROGRESS
 
@@ -204,7 +207,7 @@ class Matcher:
 
     def _decide(self, per: np.ndarray, agree: np.ndarray) -> list[Match]:
         ratio = per / self.thresholds
-        agreed = ((ratio < 1.0) & (agree > AGREE)) | ((ratio < SURE_RATIO) & (agree > SURE))
+        agreed = ((ratio < TIERS[:, :1]) & (agree > TIERS[:, 1:])).any(axis=0)
         self.running = np.where(agreed, self.running + 1, 0)
         out = []
         for gi in np.flatnonzero(self.running >= HOLD):
