@@ -89,6 +89,32 @@ def test_repetitions_back_to_back_each_complete_once(taught, tmp_path, motion, r
     assert all(middle - 0.6 < t < middle + 0.8 for (t, _), middle in zip(events, middles))
 
 
+class Unsure:
+    """A classifier stand-in: the first loaded gesture with probability `p`, the rest "none"."""
+
+    def __init__(self, p: float) -> None:
+        self.p = p
+
+    def probabilities(self, descriptor: np.ndarray) -> np.ndarray:
+        return np.array([self.p, 0.0, 1.0 - self.p])
+
+
+@pytest.mark.parametrize("tighter, p, expected", [(1.0, 0.3, 3), (1.0, 0.01, 0), (0.5, 0.3, 0), (0.5, 0.95, 3)],
+                         ids=["close-unsure", "close-ruled-out", "near-unsure", "near-agreeing"])
+def test_the_closer_the_template_the_less_the_classifier_must_agree(taught, tmp_path, tighter, p, expected):
+    """A performance matching a taught repetition closely (within CLOSE_RATIO of the threshold)
+    completes with a classifier that is unsure of it (a style the teachers never showed, e.g. wider
+    circles), unless the classifier rules it out; one only just below the threshold (the threshold
+    halved here) still needs the classifier to agree."""
+    csv = tmp_path / "circle.csv"
+    Performer(seed=7).write(csv, circle, 3)
+    gestures = [gesture_file.load(path) for path in taught]
+    recognizer = LearnedRecognizer(gestures, True, {"circle": tighter * gestures[0].threshold}, classifier=Unsure(p))
+    events = [e.name for frame in read_trajectories(csv)
+              for e in recognizer.update(frame.t, frame.hands, frame.body) if e.state.value == "complete"]
+    assert events == ["circle"] * expected, events
+
+
 def lift(u: float) -> np.ndarray:
     """Both hands raised to the front of the chest and lowered: the circle without its rolling."""
     return REST + np.sin(np.pi * u) ** 0.5 * (np.array([[-0.05, 0.1, -0.6], [0.05, 0.1, -0.6]]) - REST)
