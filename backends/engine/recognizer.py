@@ -586,11 +586,9 @@ class _Hand:
             return
         confidence = _confidence(_margin(amplitude, self.r.wave_min_typical_amplitude_mm * k),
                                  min(1.0, reversals / (2 * self.r.wave_min_reversals)))
-        if reversals >= self.r.wave_min_reversals:
-            if self.emit("wave", GestureState.COMPLETE, confidence, stroke.end):
-                self.tr.wave_done_at = self.t
-        elif reversals >= max(1, self.r.wave_min_reversals - 1):  # one reversal is also a wind-up and its swipe
-            self.announce("wave", first.start.t, confidence, stroke.end)
+        # one reversal is also a wind-up and its swipe: announced from two on
+        self.wave_count(reversals, self.r.wave_min_reversals, max(1, self.r.wave_min_reversals - 1),
+                        first.start.t, confidence, stroke.end)
 
     def rhythmic_wave(self, s: Sample) -> None:
         """A wave told by its rhythm (rhythm.py): swings too small for strokes, keeping a wave's time,
@@ -605,11 +603,19 @@ class _Hand:
         if not run or run[0].start.t <= self.tr.wave_done_at:
             return
         confidence = _confidence(min(1.0, len(run) / (2 * r.wave_rhythm_min_swings)))
-        if len(run) >= r.wave_rhythm_min_swings:
-            if self.emit("wave", GestureState.COMPLETE, confidence, swing.end):
+        self.wave_count(len(run), r.wave_rhythm_min_swings, r.wave_rhythm_min_swings - 1, run[0].start.t,
+                        confidence, swing.end)
+
+    def wave_count(self, count: int, needed: int, announced_from: int, started: float, confidence: float,
+                   end: Sample) -> None:
+        """A wave of `count` swings (or reversals) begun at `started`: complete at `needed`, in progress
+        from `announced_from`. A completion is noted (`wave_done_at`): the callers do not count the
+        swings begun before it again."""
+        if count >= needed:
+            if self.emit("wave", GestureState.COMPLETE, confidence, end):
                 self.tr.wave_done_at = self.t
-        elif len(run) == r.wave_rhythm_min_swings - 1:
-            self.announce("wave", run[0].start.t, confidence, swing.end)
+        elif count >= announced_from:
+            self.announce("wave", started, confidence, end)
 
     # --- click --------------------------------------------------------------------------------
     def click_like(self, stroke: Stroke) -> bool:

@@ -149,9 +149,9 @@ def offsets(size: float) -> list[np.ndarray]:
 def shifted(reps: list[np.ndarray]) -> list[np.ndarray]:
     """Descriptors of the gesture's repetitions (their second half: where the gesture is told) moved
     by `offsets` of `shift_size`: the same motion elsewhere."""
-    size, out = shift_size(reps), []
+    moves, out = offsets(shift_size(reps)), []
     for postures in reps:
-        for offset in offsets(size):
+        for offset in moves:
             out.append(describe_all(postures + offset)[int(EARLY * len(postures))::EVERY * 2])
     return out
 
