@@ -18,8 +18,9 @@ matched against the rules (rules.py):
   meanwhile, the swipe completes, except a swipe down: a hand lost after a stroke down went back
   to rest (a swipe down waits while its hand is unseen).
 - WAVE: several direction reversals of horizontal swings, from the wrist (4 cm) to the whole arm,
-  each quick, reaching the shoulders' height or above, with the other hand elsewhere (hands at
-  the eyes or on the head, or clapping, are no wave). Swings too small for strokes (a hand waved
+  each quick, reaching the shoulders' height or above (the first may be the arm swinging up
+  into the wave from lower), with the other hand elsewhere (hands at the eyes or on the head, or
+  clapping, are no wave). Swings too small for strokes (a hand waved
   with the fingers) are a wave by their rhythm: six in a row, quick, mostly sideways, the hand at
   the shoulders or higher (rhythm.py).
 - CLICK (PUSH): a fast stroke towards the camera ending far in front of the body at chest height,
