@@ -20,9 +20,9 @@ matched against the rules (rules.py):
 - WAVE: several direction reversals of horizontal swings, from the wrist (4 cm) to the whole arm,
   each quick, reaching the shoulders' height or above (the first may be the arm swinging up
   into the wave from lower), with the other hand elsewhere (hands at the eyes or on the head, or
-  clapping, are no wave). Swings too small for strokes (a hand waved
-  with the fingers) are a wave by their rhythm: six in a row, quick, mostly sideways, the hand at
-  the shoulders or higher (rhythm.py).
+  clapping, are no wave). Swings too small for strokes (a hand waved with the fingers) are a wave
+  by their rhythm: six in a row, quick, mostly sideways, the hand at the shoulders or higher
+  (rhythm.py).
 - CLICK (PUSH): a fast stroke towards the camera ending far in front of the body at chest height,
   still heading forward at its end (from the chest, or rising from a hanging hand), after which
   the hand halts (stops or comes back); not an arm's swing (running, walking, squatting).
