@@ -18,10 +18,11 @@ matched against the rules (rules.py):
   meanwhile, the swipe completes, except a swipe down: a hand lost after a stroke down went back
   to rest (a swipe down waits while its hand is unseen).
 - WAVE: several direction reversals of horizontal swings, from the wrist (4 cm) to the whole arm,
-  each quick, reaching the shoulders' height or above, with the other hand elsewhere (hands at
-  the eyes or on the head, or clapping, are no wave). Swings too small for strokes (a hand waved
-  with the fingers) are a wave by their rhythm: six in a row, quick, mostly sideways, the hand at
-  the shoulders or higher (rhythm.py).
+  each quick, reaching the shoulders' height or above (the first may be the arm swinging up
+  into the wave from lower), with the other hand elsewhere (hands at the eyes or on the head, or
+  clapping, are no wave). Swings too small for strokes (a hand waved with the fingers) are a wave
+  by their rhythm: six in a row, quick, mostly sideways, the hand at the shoulders or higher
+  (rhythm.py).
 - CLICK (PUSH): a fast stroke towards the camera ending far in front of the body at chest height,
   still heading forward at its end (from the chest, or rising from a hanging hand), after which
   the hand halts (stops or comes back); not an arm's swing (running, walking, squatting).
@@ -69,10 +70,15 @@ def _drop(stroke: Stroke) -> bool:
     return stroke.axis == Y and stroke.direction < 0
 
 
+def _continues(chain: list[Stroke], stroke: Stroke, max_gap_s: float) -> bool:
+    """Does `stroke` go back the other way from the last of `chain`, starting within `max_gap_s` of its end?"""
+    return bool(chain) and chain[-1].direction == -stroke.direction and stroke.start.t - chain[-1].end.t <= max_gap_s
+
+
 def _extend(chain: list[Stroke], stroke: Stroke, counts: bool, max_gap_s: float) -> None:
     """Alternating strokes, each starting within `max_gap_s` of the last: add `stroke` if it
     `counts`, else the run is broken."""
-    if chain and not (chain[-1].direction == -stroke.direction and stroke.start.t - chain[-1].end.t <= max_gap_s):
+    if chain and not _continues(chain, stroke, max_gap_s):
         chain.clear()
     if counts:
         chain.append(stroke)
@@ -531,19 +537,29 @@ class _Hand:
         core = self.core(stroke)
         return core.travel ** 2 / max(core.duration, 1e-3)
 
-    def wave_stroke(self, stroke: Stroke) -> bool:
-        """One swing of a wave: quick, side to side, the hand up in front of the chest or higher, not
-        lost on the way, and the other hand elsewhere (distances for the performer's size)."""
+    def wave_stroke(self, stroke: Stroke, opening: bool = False) -> bool:
+        """One swing of a wave: quick, side to side, the hand up in front of the chest or higher (or,
+        `opening` the wave, swinging up into it), not lost on the way, and the other hand elsewhere
+        (distances for the performer's size)."""
         r = self.r
         k = self.rec.size(stroke.start)
         return (stroke.duration <= r.wave_max_stroke_s and stroke.travel >= r.wave_min_amplitude_mm * k
                 and stroke.dominance >= r.wave_min_dominance
                 and stroke.highest >= stroke.start.shoulder - r.wave_max_below_shoulder_mm * k
-                and stroke.lowest >= stroke.start.shoulder - r.wave_arc_below_shoulder_mm * k
+                and (stroke.lowest >= stroke.start.shoulder - r.wave_arc_below_shoulder_mm * k
+                     or opening and self.swung_up_into_wave(stroke))
                 and stroke.end.seen_since == stroke.start.seen_since
                 and self.hands_apart(stroke) >= r.wave_min_hands_apart_mm * k
                 and self.tilt(stroke) <= r.wave_max_tilt_deg
                 and not self.mirrored_by_other_hand(stroke))
+
+    def swung_up_into_wave(self, stroke: Stroke) -> bool:
+        """Is the swing an arm swinging up into a wave: rising (its lowest point where it starts, but for
+        a tracker's jitter) from above the rest line (`active_min_height_mm`)? A whole arm lifted out to
+        the side starts waving so, lower than any swing of its arc later; an arm lifted straight from
+        hanging, or sweeping low across the front, is not waving yet."""
+        lowest = stroke.lowest
+        return lowest >= self.r.active_min_height_mm and float(stroke.start.p[Y]) - lowest <= self.r.stroke_hysteresis_mm
 
     @staticmethod
     def head_moved(stroke: Stroke) -> float:
@@ -572,8 +588,8 @@ class _Hand:
 
     def wave(self, stroke: Stroke, reversed_: bool) -> None:
         """Count the swings of a wave: alternating wave strokes, each starting soon after the last."""
-        run = self.tr.waving
-        _extend(run, stroke, self.wave_stroke(stroke), self.r.oscillation_max_gap_s)
+        run, gap = self.tr.waving, self.r.oscillation_max_gap_s
+        _extend(run, stroke, self.wave_stroke(stroke, opening=not _continues(run, stroke, gap)), gap)
         if not run:
             return
         first = run[0]

@@ -41,7 +41,8 @@ class GestureRules(BaseModel):
     active_min_height_mm: float = Field(
         -150.0, description="a hand lower than this relative to the torso (the spine joint) hangs at rest: "
         "swipes and clicks must start and end above it, so lifting the arm from rest or dropping it "
-        "back is never a gesture (a hanging hand is 300-400 mm below the torso)")
+        "back is never a gesture (a hanging hand is 300-400 mm below the torso); a wave's opening swing, the arm "
+        "swinging up into it, may start from anywhere above it (see `wave_arc_below_shoulder_mm`)")
 
     # --- swipes -------------------------------------------------------------------------------
     swipe_min_travel_mm: float = Field(
@@ -120,7 +121,9 @@ class GestureRules(BaseModel):
     wave_arc_below_shoulder_mm: float = Field(
         350.0, description="a whole arm waving dips this far below the shoulders at the bottom of its arc "
         "(the swing's highest point is judged by `wave_max_below_shoulder_mm`); a hand on the hip or "
-        "hanging is lower")
+        "hanging is lower. The wave's opening swing may start lower when the arm swings up into it: rising "
+        "from above `active_min_height_mm`, its lowest point where it starts (within `stroke_hysteresis_mm`); "
+        "a whole arm lifted out to the side and swung up across opens 290-390 mm below the shoulders")
     wave_min_swing_s: float = Field(
         0.1, ge=0, description="median duration of a wave's swings: nobody waves faster than 5 Hz; "
         "quicker reversals are a skeleton's jitter or glitches")

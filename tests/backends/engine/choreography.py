@@ -214,6 +214,25 @@ def wave(swings: int = 6, amplitude: float = 240.0, half_period: float = 0.2, he
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 
 
+def whole_arm_wave(swings: int = 3, opening: tuple[float, float, float] = (450.0, -120.0, -300.0),
+                   sag: float = 0.0, half_period: float = 0.25) -> Performance:
+    """The right arm lifted out to the side to `opening` in 0.3 s, swung up across the body (sagging by
+    `sag` mm halfway: sweeping low across the front rather than rising) and then side to side over the
+    shoulder `swings` more times, held out at the side a moment and dropped."""
+    left_, right_ = (-200.0, 450.0, -350.0), (450.0, 420.0, -350.0)
+    right = rest(Side.RIGHT).hold(0.3).then(0.3, opening)
+    across = (right.end, right.end + half_period)
+    right = right.then(half_period, left_)
+    for i in range(swings):
+        right = right.then(half_period, right_ if i % 2 == 0 else left_)
+    right = right.hold(0.4).then(0.6, REST[Side.RIGHT])
+
+    def arm(t: float) -> np.ndarray:
+        f = np.clip((t - across[0]) / (across[1] - across[0]), 0.0, 1.0)
+        return right(t) - np.array([0.0, sag * np.sin(np.pi * f), 0.0])
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: arm}, right.end + 0.5)
+
+
 def push(pushes: int = 1, travel: float = 400.0, pause: float = 0.4, seconds: float = 0.25) -> Performance:
     """Both hands up in front of the shoulders, pushed forward `travel` mm in `seconds` and back."""
     hands = {}

@@ -157,6 +157,18 @@ def test_a_wave_from_the_wrist_at_shoulder_height_is_a_wave():
     assert completed(perform(c.wave(swings=6, amplitude=60, half_period=0.17, height=200))) == ["wave"]
 
 
+@pytest.mark.parametrize("noise_mm", [0.0, 5.0])
+def test_a_whole_arm_wave_opened_by_swinging_the_arm_up_across_is_a_wave(noise_mm):
+    """The opening swing rises across from low at the side (390 mm below the shoulders, lower than any
+    later swing of the arc, above the rest line), three swings follow, the arm held out at the end
+    (UTD-MHAD subject 4 waves so). Opened from a hand at the hip, or sweeping low across the front, the
+    arm is not waving yet, and three swings are two reversals."""
+    assert completed(perform(c.whole_arm_wave(), noise_mm=noise_mm)) == ["wave"]
+    assert "wave" not in completed(perform(c.whole_arm_wave(opening=(450.0, -250.0, -300.0)), noise_mm=noise_mm))
+    assert "wave" not in completed(perform(c.whole_arm_wave(opening=(450.0, 50.0, -300.0), sag=300.0), noise_mm=noise_mm))
+    assert "wave" not in completed(perform(c.whole_arm_wave(swings=2), noise_mm=noise_mm))
+
+
 def test_hands_jiggling_at_the_eyes_are_no_wave():
     """Both hands near each other: the other hand is not elsewhere, as a waving performer's is."""
     assert "wave" not in completed(perform(c.hands_at_the_eyes()))
