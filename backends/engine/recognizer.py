@@ -537,7 +537,7 @@ class _Hand:
         core = self.core(stroke)
         return core.travel ** 2 / max(core.duration, 1e-3)
 
-    def wave_stroke(self, stroke: Stroke, opening: bool = False) -> bool:
+    def wave_stroke(self, stroke: Stroke, opening: bool) -> bool:
         """One swing of a wave: quick, side to side, the hand up in front of the chest or higher (or,
         `opening` the wave, swinging up into it), not lost on the way, and the other hand elsewhere
         (distances for the performer's size)."""
