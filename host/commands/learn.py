@@ -3,9 +3,11 @@
     issv learn goggles take1.csv take2.csv@3.5-20 --mirrored -o goggles.gesture.json
     issv learn --show goggles.gesture.json          # what was learned, and a PNG of the repetitions
     issv learn bow --profile stage.toml --repetitions 5   # live, from the profile's source and backend
+    issv learn goggles goggles.gesture.json take3.csv --mirrored   # teach it more: a new performer added
 
 Each example holds one or more repetitions separated by rest or stillness; the learner finds them,
-says how many and how alike they are, and names a repetition far from the others by its time.
+says how many and how alike they are, and names a repetition far from the others by its time. An
+example may also be a learned-gesture file: its repetitions are learned again with the new ones.
 """
 from __future__ import annotations
 
@@ -18,7 +20,7 @@ import numpy as np
 from host.errors import UserError
 from host.learned.examples import read_take
 from host.learned.gesture_file import LearnedGesture, load
-from host.learned.learner import far_off, learn
+from host.learned.learner import far_off, learn, taught_before
 
 HELP = "learn a gesture from examples of it (CSV trajectories, .npz clips, .mcap recordings)"
 
@@ -26,7 +28,8 @@ HELP = "learn a gesture from examples of it (CSV trajectories, .npz clips, .mcap
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("name", nargs="?", help="the gesture's name, as effects and OSC will see it")
     p.add_argument("examples", nargs="*", metavar="EXAMPLE",
-                   help="FILE or FILE@START-END (seconds): .csv hand trajectories, .npz depth clips, .mcap recordings")
+                   help="FILE or FILE@START-END (seconds): .csv hand trajectories, .npz depth clips, .mcap recordings; "
+                   "or a learned-gesture .json, whose repetitions are learned again with the new ones")
     p.add_argument("--mirrored", action="store_true",
                    help="CSV coordinates come from a mirrored image: +x is the performer's right")
     p.add_argument("-o", "--output", type=Path, help="where to write the gesture (default: NAME.gesture.json)")
@@ -100,16 +103,19 @@ def main(args: argparse.Namespace) -> int:
         return 0
     if not args.name:
         raise UserError("issv learn: name the gesture and give examples of it: issv learn NAME TAKE.csv ...")
-    if args.profile is not None:
-        takes = _live(args)
-    elif not args.examples:
+    if not args.examples and args.profile is None:
         raise UserError(f"issv learn {args.name}: give examples (TAKE.csv, CLIP.npz, REC.mcap) or --profile to "
                         "teach live")
-    else:
-        takes = [read_take(e, args.mirrored, args.backend) for e in args.examples]
-    gesture = learn(args.name, takes)
+    learned = [e for e in args.examples if Path(e).suffix.lower() == ".json"]
+    before = {e: taught_before(load(e)) for e in learned}
+    takes = [read_take(e, args.mirrored, args.backend) for e in args.examples if e not in before]
+    if args.profile is not None:
+        takes += _live(args)
+    gesture = learn(args.name, takes, before=[r for reps in before.values() for r in reps])
     output = args.output or Path(f"{args.name}.gesture.json")
     gesture.save(output)
+    for source, reps in before.items():
+        print(f"{source}: {len(reps)} repetitions taught before")
     for source, count in gesture.found.items():
         print(f"{source}: {count} repetitions found")
     for r in gesture.left_out:

@@ -74,7 +74,7 @@ def read_take(text: str, mirrored: bool, backend: str = "openiss") -> Take:
         frames, mirrored = _recording(path, mirrored)
     else:
         raise UserError(f"{path}: cannot learn from a {kind or 'file without extension'}; "
-                        f"expected one of {', '.join(KINDS)}")
+                        f"expected one of {', '.join(KINDS)}, or a whole learned-gesture .json")
     t, p = postures(((ft, h, b) for ft, h, b in frames if start <= ft <= end), mirrored)
     if len(t) < 3:
         raise UserError(f"{text}: no stretch with both hands seen in it; nothing to learn from")

@@ -13,14 +13,15 @@ the artist can re-record it.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Sequence
 
 import numpy as np
 
 from host.errors import UserError
 from host.learned.features import RATE_HZ
 from host.learned.gesture_file import LearnedGesture, TaughtRepetition
-from host.learned.matcher import Matcher
+from host.learned.matcher import Matcher, resampled
 from host.learned.segment import find_repetitions
 
 FIRES_AT = 0.75  # a learned gesture completes three quarters through: late enough to tell it from
@@ -83,10 +84,19 @@ def consistency(gesture: LearnedGesture) -> np.ndarray:
     return out
 
 
-def learn(name: str, takes: list[Take], fires_at: float = FIRES_AT) -> LearnedGesture:
-    """The learned gesture; UserError when the takes hold fewer than two repetitions."""
-    reps = [r for take in takes for r in repetitions(take)]
-    found = {take.source: sum(r.source == take.source for r in reps) for take in takes}
+def taught_before(gesture: LearnedGesture) -> list[TaughtRepetition]:
+    """A learned gesture's repetitions, at RATE_HZ, to be learned again with new takes."""
+    return [replace(r, postures=resampled(r.postures, gesture.rate_hz), score=None) for r in gesture.repetitions]
+
+
+def learn(name: str, takes: list[Take], fires_at: float = FIRES_AT,
+          before: Sequence[TaughtRepetition] = ()) -> LearnedGesture:
+    """The learned gesture; UserError when the takes hold fewer than two repetitions. `before`:
+    repetitions of a gesture learned before (`taught_before`), learned again with the takes' own
+    (a performer whose style the first teachers never showed, added to what they taught)."""
+    found_now = [r for take in takes for r in repetitions(take)]
+    found = {take.source: sum(r.source == take.source for r in found_now) for take in takes}
+    reps = list(before) + found_now
     if len(reps) < 2:
         found = "one repetition" if reps else "no repetition"
         raise UserError(f"learn {name}: found {found} in {', '.join(t.source for t in takes)}; perform the "

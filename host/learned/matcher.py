@@ -67,7 +67,8 @@ class Match:
     complete: bool
 
 
-def _resampled(postures: np.ndarray, rate_hz: float) -> np.ndarray:
+def resampled(postures: np.ndarray, rate_hz: float) -> np.ndarray:
+    """Postures sampled at `rate_hz` -> at RATE_HZ (a file may have been taught at another rate)."""
     if abs(rate_hz - RATE_HZ) < 1e-6:
         return postures
     n = len(postures)
@@ -103,7 +104,7 @@ class Matcher:
         self.close = CLOSE_RATIO * np.minimum(self.thresholds, [g.threshold for g in gestures])
         prefixes, owner, typical, taught = [], [], [], []
         for gi, g in enumerate(gestures):
-            reps = [_resampled(r.postures, g.rate_hz) for r in g.repetitions]
+            reps = [resampled(r.postures, g.rate_hz) for r in g.repetitions]
             taught.append(reps)
             typical.append(float(np.median([len(r) for r in reps])))
             for r in reps:

@@ -192,6 +192,36 @@ def test_the_commands_learn_show_and_recognise(tmp_path, capsys):
     assert all(e["hands"] == [1, 2] and 0.5 <= e["confidence"] <= 1.0 for e in learned)
 
 
+def wide_circle(u: float) -> np.ndarray:
+    """The circle in another style: hands out at the sides, each rolling in the frontal plane."""
+    lift = np.sin(np.pi * u) ** 0.5
+    a = 2 * np.pi * u
+    left = [-0.9 + 0.25 * np.cos(a), 0.0 + 0.25 * np.sin(a), -0.2]
+    right = [0.9 - 0.25 * np.cos(a), 0.0 + 0.25 * np.sin(a), -0.2]
+    return REST + lift * (np.array([left, right]) - REST)
+
+
+def test_a_learned_gesture_is_taught_more_by_a_performer_with_another_style(taught, tmp_path, capsys):
+    """A style the teachers never showed is not recognised; learned again from the file and one
+    take of a performer who shows it, it is, the first teachers' style still is, and the punch
+    taught beside it is still only a punch."""
+    Performer(size_mm=560.0, seed=21).write(tmp_path / "wide_take.csv", wide_circle, 4)
+    probes = {}
+    for name, motion in (("wide", wide_circle), ("circle", circle), ("punch", punch)):
+        probes[name] = tmp_path / f"{name}_probe.csv"
+        Performer(size_mm=470.0, speed=1.2, seed=22).write(probes[name], motion, 3)
+    assert completes(taught, probes["wide"]) == []
+    more = tmp_path / "circle_more.gesture.json"
+    assert issv(["learn", "circle", str(taught[0]), str(tmp_path / "wide_take.csv"), "--mirrored",
+                 "-o", str(more)]) == 0
+    said = capsys.readouterr().out
+    assert f"{taught[0]}: 8 repetitions taught before" in said and "wide_take.csv: 4 repetitions found" in said
+    assert "circle: 12 repetitions" in said
+    files = [more, taught[1]]
+    for name, expected in (("wide", "circle"), ("circle", "circle"), ("punch", "punch")):
+        assert [n for _, n in completes(files, probes[name])] == [expected] * 3, name
+
+
 def test_one_repetition_is_not_enough(tmp_path, capsys):
     take = tmp_path / "once.csv"
     Performer().write(take, punch, 1)
