@@ -101,7 +101,10 @@ def learn(name: str, takes: list[Take], fires_at: float = FIRES_AT,
         found = "one repetition" if reps else "no repetition"
         raise UserError(f"learn {name}: found {found} in {', '.join(t.source for t in takes)}; perform the "
                         "gesture at least twice, from rest back to rest, with a moment of stillness between")
-    odd = odd_lengths(reps) if len(reps) >= 3 else []
+    # lengths are judged within this teaching (a file's repetitions were judged when it was taught):
+    # a performer slower than the file's teachers is learned, not left out as odd
+    odd = odd_lengths(found_now if len(found_now) >= 3 else reps) if len(reps) >= 3 else []
+    odd = [r for r in odd if not any(r is b for b in before)]
     reps = [r for r in reps if r not in odd]
     if len(reps) > MAX_REPETITIONS:
         reps = [reps[i] for i in np.linspace(0, len(reps) - 1, MAX_REPETITIONS).round().astype(int)]

@@ -12,7 +12,7 @@ from host.commands.gestures import read_trajectories
 from host.errors import UserError
 from host.learned import gesture_file
 from host.learned.examples import parse_example, read_take
-from host.learned.learner import learn
+from host.learned.learner import learn, taught_before
 from host.learned.recognizer import LearnedRecognizer
 from host.learned.segment import find_repetitions
 from tests.host.learned.performer import REST, Performer, circle, punch, still
@@ -190,6 +190,22 @@ def test_the_commands_learn_show_and_recognise(tmp_path, capsys):
     learned = [e for e in lines if e.get("native") == "learned"]
     assert [(e["name"], e["state"]) for e in learned] == [("roll", "in_progress"), ("roll", "complete")] * 2
     assert all(e["hands"] == [1, 2] and 0.5 <= e["confidence"] <= 1.0 for e in learned)
+
+
+def test_a_performer_slower_than_the_teachers_teaches_the_gesture_more(tmp_path):
+    """Lengths are judged within one teaching: repetitions twice as slow as the file's are the new
+    performer's own pace, not repetitions run together, and a performer as slow is recognised."""
+    paths = [tmp_path / "quick.csv", tmp_path / "slow.csv", tmp_path / "probe.csv"]
+    Performer(seed=1).write(paths[0], circle, 5)
+    Performer(size_mm=480.0, speed=0.45, seed=2).write(paths[1], circle, 3)
+    Performer(size_mm=600.0, speed=0.45, seed=3).write(paths[2], circle, 3)
+    first = learn("circle", [read_take(str(paths[0]), True)])
+    gesture = learn("circle", [read_take(str(paths[1]), True)], before=taught_before(first))
+    assert len(gesture.repetitions) == 8 and gesture.left_out == []
+    recognizer = LearnedRecognizer([gesture], True)
+    events = [e.name for frame in read_trajectories(paths[2])
+              for e in recognizer.update(frame.t, frame.hands, frame.body) if e.state.value == "complete"]
+    assert events == ["circle"] * 3, events
 
 
 def wide_circle(u: float) -> np.ndarray:
