@@ -12,8 +12,9 @@ Also, teacher side (how the design parameters were chosen, never on p04-p10): le
 out, learn from the other two, score the third the same way (in process, the same functions).
 Teach more: a performer the teachers' gesture misses teaches their own style on top of the
 teachers' file, from the first half of their recording; recall on the rest, before and after
-(`teach_more`). And cost: per-frame time of recognising 10 learned gestures (the six and four more taught from
-the same takes under other names), CPU time on one core, and the time `issv learn` takes.
+(`teach_more`). And cost: per-frame time of recognising 10 learned gestures (the six and four
+more taught from the same takes under other names), CPU time on one core, and the time `issv
+learn` takes.
 
 Needs ISSV_DATA (the folder holding msrc12-dev); without it says so and exits.
 """
