@@ -193,8 +193,9 @@ def test_the_commands_learn_show_and_recognise(tmp_path, capsys):
 
 
 def test_a_performer_slower_than_the_teachers_teaches_the_gesture_more(tmp_path):
-    """Lengths are judged within one teaching: repetitions twice as slow as the file's are the new
-    performer's own pace, not repetitions run together, and a performer as slow is recognised."""
+    """Lengths are judged within one teaching: repetitions over twice as slow as the file's are
+    the new performer's own pace, not repetitions run together, and a performer as slow is
+    recognised."""
     paths = [tmp_path / "quick.csv", tmp_path / "slow.csv", tmp_path / "probe.csv"]
     Performer(seed=1).write(paths[0], circle, 5)
     Performer(size_mm=480.0, speed=0.45, seed=2).write(paths[1], circle, 3)
