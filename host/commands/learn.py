@@ -58,21 +58,28 @@ def describe(g: LearnedGesture) -> str:
 
 
 def plot(g: LearnedGesture, path: Path) -> None:
-    """The repetitions over each other: each hand's x, y, z against the share of the repetition."""
+    """The repetitions over each other: each hand's x, y, z against the share of the repetition,
+    one colour per example (a performer taught more shows as a style of its own)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(2, 3, figsize=(12, 6), sharex=True)
     labels = [f"{hand} {axis}" for hand in ("left", "right") for axis in "xyz"]
+    colours = {source: f"C{i % 10}" for i, source in enumerate(dict.fromkeys(r.source for r in g.repetitions))}
     for r in g.repetitions:
         share = np.linspace(0, 1, len(r.postures))
         for c, ax in enumerate(axes.flat):
-            ax.plot(share, r.postures[:, c], alpha=0.6, lw=1)
+            ax.plot(share, r.postures[:, c], color=colours[r.source], alpha=0.6, lw=1)
     for c, ax in enumerate(axes.flat):
         ax.set_title(labels[c], fontsize=9)
         ax.axvline(g.fires_at, color="k", ls=":", lw=1)
+    legend = len(colours) > 1
+    if legend:
+        fig.legend([plt.Line2D([], [], color=colour) for colour in colours.values()],
+                   [Path(source).name for source in colours], loc="lower center", ncol=min(4, len(colours)),
+                   fontsize=8)
     fig.suptitle(f"{g.name}: {len(g.repetitions)} repetitions (body units; dotted: where it completes)")
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.08 if legend else 0, 1, 1))
     try:
         fig.savefig(path, dpi=80)
     except OSError as error:
