@@ -35,6 +35,7 @@ import numpy as np
 from bench.common import parse_args, report
 from host.commands.gestures import read_trajectories
 from host.learned.examples import read_take
+from host.learned.gesture_file import load
 from host.learned.learner import learn, taught_before
 from host.learned.recognizer import LearnedRecognizer
 
@@ -132,8 +133,9 @@ def announced(runs: list[list[tuple[float, str, str]]]) -> dict:
             "lead_s_p50": float(np.median(leads)) if leads else None}
 
 
-def protocol(folder: Path, workdir: Path, jobs: int = 2) -> tuple[dict, list[Path], float]:
-    """The judged protocol through the real commands; also the slowest `issv learn` (s)."""
+def protocol(folder: Path, workdir: Path, jobs: int = 2) -> tuple[dict, list[Path], float, dict]:
+    """The judged protocol through the real commands; also the slowest `issv learn` (s) and each
+    checked recording's COMPLETE events."""
     files, learn_s = [], []
     for g, name in SIX.items():
         takes = [str(c) for c, t in streams(folder, TEACHERS) if t["gesture"] == g]
@@ -147,9 +149,10 @@ def protocol(folder: Path, workdir: Path, jobs: int = 2) -> tuple[dict, list[Pat
     with ThreadPoolExecutor(jobs) as pool:
         outs = list(pool.map(lambda s: _issv("gestures", str(s[0]), "--mirrored", *learned), checked))
     events = [_learned(o) for o in outs]
-    out = score([(t, _completes(e)) for (_, t), e in zip(checked, events)])
+    completed = {c: _completes(e) for (c, _), e in zip(checked, events)}
+    out = score([(t, completed[c]) for c, t in checked])
     out["in_progress"] = announced(events)
-    return out, files, max(learn_s)
+    return out, files, max(learn_s), completed
 
 
 def recognise(recognizer: LearnedRecognizer, csv: Path) -> list[tuple[float, str]]:
@@ -160,6 +163,13 @@ def recognise(recognizer: LearnedRecognizer, csv: Path) -> list[tuple[float, str
     return events
 
 
+def recognised(gestures: list, checked: list[tuple[Path, dict]]) -> list[tuple[dict, list[tuple[float, str]]]]:
+    """(truth, COMPLETE events) of each recording, in process; the classifier trained once, as a show
+    loads its gestures once."""
+    trained = LearnedRecognizer(gestures, True).matcher.classifier
+    return [(t, recognise(LearnedRecognizer(gestures, True, classifier=trained), c)) for c, t in checked]
+
+
 def teacher_side(folder: Path) -> dict:
     """Leave one teacher out: learn from the other two, score the third (all 12 gestures' streams)."""
     runs, per_teacher = [], {}
@@ -167,9 +177,7 @@ def teacher_side(folder: Path) -> dict:
         others = [p for p in TEACHERS if p != held]
         gestures = [learn(name, [read_take(str(c), True) for c, t in streams(folder, others) if t["gesture"] == g])
                     for g, name in SIX.items()]
-        trained = LearnedRecognizer(gestures, True).matcher.classifier  # once per fold, as a show loads once
-        mine = [(t, recognise(LearnedRecognizer(gestures, True, classifier=trained), c))
-                for c, t in streams(folder, [held])]
+        mine = recognised(gestures, streams(folder, [held]))
         per_teacher[held] = score(mine)
         runs += mine
     out = score(runs)
@@ -182,15 +190,15 @@ OWN_STYLE = (("p09", "wind_it_up"), ("p07", "wind_it_up"), ("p04", "wind_it_up")
              ("p05", "goggles"), ("p08", "shoot"))  # people p01-p03's teaching misses most
 
 
-def teach_more(folder: Path) -> dict:
+def teach_more(folder: Path, files: list[Path], completed: dict) -> dict:
     """A performer teaches their own style (docs/learned-gestures.md, "Teaching more"): one gesture
     learned again from the teachers' repetitions and the first half of the performer's recording of
     it (up to between its middle action points). Before and after: recall on the rest of their
     recordings of it (that second half, and any other recording), and false fires in the windows of
-    all their recordings (the taught half left out)."""
+    all their recordings (the taught half left out). `files`: the protocol's six; `completed`: its
+    events on each checked recording (before teaching more)."""
     gesture_of = {name: g for g, name in SIX.items()}
-    taught = {name: learn(name, [read_take(str(c), True) for c, t in streams(folder, TEACHERS) if t["gesture"] == g])
-              for g, name in SIX.items()}
+    taught = {g.name: g for g in map(load, files)}
     out = {}
     for person, name in OWN_STYLE:
         mine = streams(folder, [person])
@@ -201,9 +209,9 @@ def teach_more(folder: Path) -> dict:
         checked = [(c, later if c == csv else t) for c, t in mine]
         more = learn(name, [read_take(f"{csv}@0-{cut:.2f}", True)], before=taught_before(taught[name]))
         figures = []
-        for gestures in (list(taught.values()), [more if g.name == name else g for g in taught.values()]):
-            trained = LearnedRecognizer(gestures, True).matcher.classifier
-            s = score([(t, recognise(LearnedRecognizer(gestures, True, classifier=trained), c)) for c, t in checked])
+        for runs in ([(t, completed[c]) for c, t in checked],
+                     recognised([more if g.name == name else g for g in taught.values()], checked)):
+            s = score(runs)
             figures.append((s["recall"][name], s["false_fire_rate"]))
         out[f"{person} {name}"] = {"recall_before": figures[0][0], "recall_after": figures[1][0],
                                    "false_fire_rate_before": figures[0][1], "false_fire_rate_after": figures[1][1],
@@ -213,7 +221,6 @@ def teach_more(folder: Path) -> dict:
 
 def cost(files: list[Path], folder: Path) -> dict:
     """ms per frame for 10 learned gestures (six files, four of them again under new names)."""
-    from host.learned.gesture_file import load
     gestures = [load(f) for f in files]
     for extra, g in enumerate(gestures[:4]):
         twin = load(files[extra])
@@ -237,11 +244,11 @@ def main() -> None:
         "--skip-teachers", action="store_true", help="only the judged protocol on p04-p10"))
     folder = _data()
     with tempfile.TemporaryDirectory() as tmp:
-        checked, files, learn_s = protocol(folder, Path(tmp))
+        checked, files, learn_s, completed = protocol(folder, Path(tmp))
         timing = cost(files, folder)
+        more = teach_more(folder, files, completed)
     timing["learn_s_slowest_gesture"] = learn_s
     teachers = None if args.skip_teachers else teacher_side(folder)
-    more = teach_more(folder)
     figures = {"checked_p04_p10": checked, "teachers_leave_one_out": teachers, "teach_more": more, "cost": timing,
                "targets": {"mean_recall": 0.9, "worst_gesture_recall": 0.75, "worst_person_recall": 0.75,
                            "false_fire_rate": 0.10, "ms_per_frame": 1.0}}

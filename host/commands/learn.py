@@ -113,8 +113,7 @@ def main(args: argparse.Namespace) -> int:
     if not args.examples and args.profile is None:
         raise UserError(f"issv learn {args.name}: give examples (TAKE.csv, CLIP.npz, REC.mcap) or --profile to "
                         "teach live")
-    learned = [e for e in args.examples if Path(e).suffix.lower() == ".json"]
-    before = {e: taught_before(load(e)) for e in learned}
+    before = {e: taught_before(load(e)) for e in args.examples if Path(e).suffix.lower() == ".json"}
     takes = [read_take(e, args.mirrored, args.backend) for e in args.examples if e not in before]
     if args.profile is not None:
         takes += _live(args)

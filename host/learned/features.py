@@ -131,6 +131,16 @@ class PostureStream:
         return rest - np.array([0.0, REST_PLACE[Side.LEFT][1], REST_PLACE[Side.LEFT][2]]) * size
 
 
+def resampled(postures: np.ndarray, rate_hz: float) -> np.ndarray:
+    """Postures sampled at `rate_hz` -> at RATE_HZ (a file may have been taught at another rate)."""
+    if abs(rate_hz - RATE_HZ) < 1e-6:
+        return postures
+    n = len(postures)
+    t_old = np.arange(n) / rate_hz
+    t_new = np.arange(0.0, t_old[-1] + 1e-9, 1.0 / RATE_HZ)
+    return np.column_stack([np.interp(t_new, t_old, postures[:, c]) for c in range(postures.shape[1])])
+
+
 def postures(frames: Iterable[tuple[float, Sequence[Hand], Mapping]], mirrored: bool) -> tuple[np.ndarray, np.ndarray]:
     """A whole recording at RATE_HZ: (times (n,), postures (n, 6)). Gaps (a hand gone) are left out."""
     stream = PostureStream(mirrored)

@@ -19,9 +19,9 @@ from typing import Sequence
 import numpy as np
 
 from host.errors import UserError
-from host.learned.features import RATE_HZ
+from host.learned.features import RATE_HZ, resampled
 from host.learned.gesture_file import LearnedGesture, TaughtRepetition
-from host.learned.matcher import Matcher, resampled
+from host.learned.matcher import Matcher
 from host.learned.segment import find_repetitions
 
 FIRES_AT = 0.75  # a learned gesture completes three quarters through: late enough to tell it from
@@ -51,9 +51,10 @@ def repetitions(take: Take) -> list[TaughtRepetition]:
             for r in find_repetitions(take.t, take.postures)]
 
 
-def odd_lengths(reps: list[TaughtRepetition]) -> list[TaughtRepetition]:
-    """Repetitions far shorter or longer than the typical one: two run together, or a twitch."""
-    typical = float(np.median([r.duration for r in reps]))
+def odd_lengths(reps: list[TaughtRepetition], among: list[TaughtRepetition]) -> list[TaughtRepetition]:
+    """Those of `reps` far shorter or longer than the typical one of `among`: two run together, or a
+    twitch."""
+    typical = float(np.median([r.duration for r in among]))
     return [r for r in reps if not SHORTEST <= r.duration / typical <= LONGEST]
 
 
@@ -103,8 +104,7 @@ def learn(name: str, takes: list[Take], fires_at: float = FIRES_AT,
                         "gesture at least twice, from rest back to rest, with a moment of stillness between")
     # lengths are judged within this teaching (a file's repetitions were judged when it was taught):
     # a performer slower than the file's teachers is learned, not left out as odd
-    odd = odd_lengths(found_now if len(found_now) >= 3 else reps) if len(reps) >= 3 else []
-    odd = [r for r in odd if not any(r is b for b in before)]
+    odd = odd_lengths(found_now, found_now if len(found_now) >= 3 else reps) if len(reps) >= 3 else []
     reps = [r for r in reps if r not in odd]
     if len(reps) > MAX_REPETITIONS:
         reps = [reps[i] for i in np.linspace(0, len(reps) - 1, MAX_REPETITIONS).round().astype(int)]

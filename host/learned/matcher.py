@@ -44,7 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from host.learned.classifier import Classifier, Describer
-from host.learned.features import RATE_HZ
+from host.learned.features import RATE_HZ, resampled
 from host.learned.gesture_file import LearnedGesture
 
 MOTION_WEIGHT = 0.5  # how much the direction of motion counts next to where the hands are
@@ -65,16 +65,6 @@ class Match:
     index: int
     ratio: float
     complete: bool
-
-
-def resampled(postures: np.ndarray, rate_hz: float) -> np.ndarray:
-    """Postures sampled at `rate_hz` -> at RATE_HZ (a file may have been taught at another rate)."""
-    if abs(rate_hz - RATE_HZ) < 1e-6:
-        return postures
-    n = len(postures)
-    t_old = np.arange(n) / rate_hz
-    t_new = np.arange(0.0, t_old[-1] + 1e-9, 1.0 / RATE_HZ)
-    return np.column_stack([np.interp(t_new, t_old, postures[:, c]) for c in range(postures.shape[1])])
 
 
 def motion(postures: np.ndarray) -> np.ndarray:
