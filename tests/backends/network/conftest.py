@@ -62,7 +62,10 @@ def clip_profile(tmp: Path, clip: Path, loop: bool = True, backend: str = "truth
 def stop(proc: subprocess.Popen, grace: float = 10.0) -> None:
     """SIGINT (to its process group if it leads one: roscore's children go with it), SIGKILL if it
     lingers; already gone is fine. What is left of its group afterwards is killed."""
-    group = os.getpgid(proc.pid) == proc.pid if proc.poll() is None else False
+    try:
+        group = proc.poll() is None and os.getpgid(proc.pid) == proc.pid
+    except ProcessLookupError:  # it ended (and was reaped) between the poll and the lookup
+        group = False
     for sig in (signal.SIGINT, signal.SIGKILL):
         try:
             os.killpg(proc.pid, sig) if group else proc.send_signal(sig)
