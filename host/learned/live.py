@@ -7,6 +7,7 @@ take without one is redone, and at a terminal the artist may also discard a take
 from __future__ import annotations
 
 import sys
+import time
 from typing import Callable, TextIO
 
 from host.contracts import Backend
@@ -48,6 +49,8 @@ def teach(backend: Backend, count: int, seconds: float, out: TextIO = sys.stdout
     takes: list[Take] = []
     tries = 0
     mirrored = [True]  # a network or replay backend without depth: its hands come mirrored
+    # named by the session: taught more live on top of a file taught live, repetitions keep apart
+    session = time.strftime("live %Y-%m-%d %H:%M:%S")
     while len(takes) < count:
         n = len(takes) + 1
         rest = _frames(backend, COUNT_IN_S, _bar(out, f"repetition {n}/{count}: stand still, hands down"), mirrored)
@@ -55,7 +58,7 @@ def teach(backend: Backend, count: int, seconds: float, out: TextIO = sys.stdout
         motion = _frames(backend, seconds, _bar(out, f"repetition {n}/{count}: go!"), mirrored)
         out.write("\n")
         t, p = postures(rest + motion + _frames(backend, 0.5, lambda share: None, mirrored), mirrored[0])
-        take = Take(f"live repetition {n}", t, p)
+        take = Take(f"{session} repetition {n}", t, p)
         found = repetitions(take) if len(t) > 2 else []
         if len(found) != 1:
             tries += 1

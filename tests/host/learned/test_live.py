@@ -23,7 +23,7 @@ name = "truth"
 """
 
 
-def test_live_teaching_takes_the_repetitions_from_the_profile(tmp_path, capsys):
+def test_live_teaching_takes_the_repetitions_from_the_profile_and_teaches_a_file_more(tmp_path, capsys):
     (tmp_path / "steps.toml").write_text(CHOREOGRAPHY)
     (tmp_path / "teach.toml").write_text(PROFILE)
     out = tmp_path / "up.gesture.json"
@@ -33,6 +33,13 @@ def test_live_teaching_takes_the_repetitions_from_the_profile(tmp_path, capsys):
     assert "repetition 1/2: stand still" in said and "repetition 2/2: go!" in said
     learned = gesture_file.load(out)
     assert learned.name == "up" and len(learned.repetitions) == 2 and learned.hands == "right"
+
+    more = tmp_path / "more.gesture.json"
+    assert issv(["learn", "up", str(out), "--profile", str(tmp_path / "teach.toml"), "--repetitions", "2",
+                 "-o", str(more)]) == 0
+    assert f"{out}: 2 repetitions taught before" in capsys.readouterr().out
+    sources = [r.source for r in gesture_file.load(more).repetitions]
+    assert len(sources) == 4 and len(set(sources)) == 4, "a new session's repetitions are told from the file's"
 
 
 def test_a_recording_is_an_example_too(tmp_path, capsys):
