@@ -339,10 +339,6 @@ class User:
     def in_view(self) -> bool:
         return self.state not in (HandState.LOST, HandState.ABSENT)
 
-    def body_points(self) -> dict[str, Vec3]:
-        """The body reference points the gesture recogniser takes (`torso`, `head`), if known."""
-        return {name: self.joints[name].position for name in ("torso", "head") if name in self.joints}
-
     def to_json(self) -> dict:
         return {"id": self.id, "state": self.state.value,
                 "center_of_mass": None if self.center_of_mass is None else list(self.center_of_mass),

@@ -89,11 +89,6 @@ def decode(data: bytes, time_tag: int = IMMEDIATELY) -> list[tuple[int, str, lis
     return out
 
 
-def unix_seconds(time_tag: int) -> float:
-    """An NTP time tag as Unix seconds."""
-    return (time_tag >> 32) - NTP_UNIX_OFFSET + (time_tag & 0xFFFFFFFF) / 2**32
-
-
 def time_tag(unix: float) -> int:
     """Unix seconds as an NTP time tag."""
     seconds = unix + NTP_UNIX_OFFSET
