@@ -27,6 +27,9 @@ class HandOptions(BaseModel):
     model_config = ConfigDict(extra="forbid")
     front_mm: float = Field(120, gt=0, description=(
         "in front of the trunk's surface (before the face, the face's) by more than this: extended"))
+    near_front_mm: float = Field(90, gt=0, description=(
+        "an arm out no farther than `front_mm` anywhere is extended where it stands this far in front "
+        "(a push starting with the hand at the chest)"))
     beside_mm: float = Field(340, gt=0, description="farther than this sideways from the spine: extended")
     above_shoulder_mm: float = Field(150, description="higher than this above the shoulder line and clear of the head")
     head_clearance_mm: float = Field(190, gt=0, description="cells this close to the head joint are head, not hand")
@@ -79,10 +82,14 @@ class HandDetector:
         front = body.surface_z - g.z
         hx, hy = g.x - float(body.head[0]), g.y - float(body.head[1])
         head_clear = hx * hx + hy * hy > o.head_clearance_mm ** 2
-        extended = (((front > o.front_mm) & (head_clear | (body.face_z - g.z > o.front_mm)))
-                    | ((np.abs(dx) > o.beside_mm) & ~core)
-                    | ((g.y > body.shoulder_y + o.above_shoulder_mm) & head_clear))
-        cand = mask & extended & (g.y > body.hip_y)
+        out = ((np.abs(dx) > o.beside_mm) & ~core) | ((g.y > body.shoulder_y + o.above_shoulder_mm) & head_clear)
+        above_legs = mask & (g.y > body.hip_y)
+        cand = above_legs & (out | self._before(front, body.face_z - g.z, head_clear, o.front_mm))
+        chest = mask & (g.y > (body.shoulder_y + body.hip_y) / 2)  # the trunk's upper half and above
+        near = chest & self._before(front, body.face_z - g.z, head_clear, o.near_front_mm) & ~cand
+        if near.any():
+            near = self._only_near(cand, near, g.pixel_area_mm2)
+            cand |= near
         if not cand.any():
             return []
         # One-cell gaps (dropped readings) do not cut an arm in two; the gap cells stay out of it.
@@ -102,10 +109,14 @@ class HandDetector:
             root = pts[joint].mean(axis=0) if joint.any() else neck
             from_root = np.linalg.norm(pts - root, axis=1)
             tips = [int(np.argmax(from_root))]
-            # Both hands out together (a two-handed push) can make one patch: a second end as far
-            # from where the patch joins the body, and a hand's width away from the first, is a hand.
             apart = np.linalg.norm(pts - pts[tips[0]], axis=1) > o.hands_apart_mm
-            if apart.any():
+            if near[ys, xs].all():
+                # A forearm held up at the chest lies within a joint's step of it all along its edge:
+                # where it joins the body says nothing. Its hand is its upper end (the elbow is lower).
+                tips = [int(np.argmin(pts[:, 2]))]
+            elif apart.any():
+                # Both hands out together (a two-handed push) can make one patch: a second end as far
+                # from where the patch joins the body, and a hand's width away from the first, is a hand.
                 second = int(np.argmax(np.where(apart, from_root, -1.0)))
                 if from_root[second] >= o.second_hand_ratio * from_root[tips[0]]:
                     tips.append(second)
@@ -135,6 +146,24 @@ class HandDetector:
             if all(np.linalg.norm(c.position - k.position) > o.hands_apart_mm for k in kept):
                 kept.append(c)
         return kept[: o.max_hands]
+
+    @staticmethod
+    def _before(front: np.ndarray, before_face: np.ndarray, head_clear: np.ndarray, mm: float) -> np.ndarray:
+        """Cells more than `mm` in front of the trunk (near the head, in front of the face)."""
+        return (front > mm) & (head_clear | (before_face > mm))
+
+    def _only_near(self, cand: np.ndarray, near: np.ndarray, area_mm2: np.ndarray) -> np.ndarray:
+        """The patches of `near` cells joined to no patch of extended cells big enough to be a hand:
+        arms out no farther than a hand at the chest. An arm that reaches farther is judged by its
+        extended cells alone (with its upper arm in front of the chest, where the patch joins the
+        body would move, and so would its hand)."""
+        count, patches = cv2.connectedComponents(cand.view(np.uint8), connectivity=8)
+        area = np.bincount(patches[cand], weights=area_mm2[cand], minlength=count)
+        hands = cand & (area >= self.options.min_area_m2 * 1e6)[patches]
+        count, arms = cv2.connectedComponents((cand | near).view(np.uint8), connectivity=8)
+        reaching = np.zeros(count, bool)
+        reaching[arms[hands]] = True
+        return near & ~reaching[arms]
 
     def _shoulder(self, x: float, neck: np.ndarray) -> np.ndarray:
         """The shoulder joint on the side of the body where x is."""
