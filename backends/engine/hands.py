@@ -9,7 +9,12 @@ body without a depth jump (the elbow of a raised forearm, the shoulder of an out
 so a bent or crossing arm still ends in its hand. An arm has one hand: of two ends on one side
 of the spine the one farther from that side's shoulder is kept, an end beside and behind the
 trunk within an upper arm of its shoulder is an elbow, and an end within a forearm of the base
-of the neck is the head or a shoulder seen at an angle. All in mm.
+of the neck is the head or a shoulder seen at an angle. An arm that nowhere stands that far out
+(a hand at the chest, a push about to start) is extended from a lower threshold in front of the
+chest; so close to the body its whole edge joins it, so its hand is its most forward end. An arm
+that does reach farther is judged by its extended cells alone: its upper arm in front of the
+chest would move where the patch joins the body (and, touching the head, flip the hand to the
+elbow). All in mm.
 """
 from __future__ import annotations
 
@@ -28,8 +33,8 @@ class HandOptions(BaseModel):
     front_mm: float = Field(120, gt=0, description=(
         "in front of the trunk's surface (before the face, the face's) by more than this: extended"))
     near_front_mm: float = Field(90, gt=0, description=(
-        "an arm out no farther than `front_mm` anywhere is extended where it stands this far in front "
-        "(a push starting with the hand at the chest)"))
+        "an arm that nowhere stands `front_mm` out is extended where it stands this far in front of the "
+        "trunk's upper half (a hand at the chest, a push about to start); its hand is its most forward end"))
     beside_mm: float = Field(340, gt=0, description="farther than this sideways from the spine: extended")
     above_shoulder_mm: float = Field(150, description="higher than this above the shoulder line and clear of the head")
     head_clearance_mm: float = Field(190, gt=0, description="cells this close to the head joint are head, not hand")
@@ -111,8 +116,8 @@ class HandDetector:
             tips = [int(np.argmax(from_root))]
             apart = np.linalg.norm(pts - pts[tips[0]], axis=1) > o.hands_apart_mm
             if near[ys, xs].all():
-                # A forearm held up at the chest lies within a joint's step of it all along its edge:
-                # where it joins the body says nothing. Its hand is its upper end (the elbow is lower).
+                # An arm at the chest lies within a joint's step of it all along its edge: where it
+                # joins the body says nothing. Its hand is its most forward end (a push starts there).
                 tips = [int(np.argmin(pts[:, 2]))]
             elif apart.any():
                 # Both hands out together (a two-handed push) can make one patch: a second end as far

@@ -52,3 +52,34 @@ def test_a_head_leaning_forward_is_no_hand_and_a_hand_before_the_face_is():
     found = detect(*scene([head, hand], face_z=2330.0))
     assert len(found) == 1 and abs(found[0].position[2] - 2150.0 - HandOptions().hand_depth_mm) < 30
     assert len(detect(*scene([head]))) == 1  # a face where the chest is: the head sticks out like a hand
+
+
+def test_a_hand_at_the_chest_is_found_from_nearer_than_an_arm_reaching_out():
+    """A push starts with the hand at the chest, 90-120 mm in front of it: a hand there, with nothing
+    of the arm farther out, is a hand (found at its most forward end); without the nearer threshold
+    (near_front_mm = front_mm) it is not."""
+    at_chest = (slice(18, 23), slice(36, 40), 2400.0)  # x 120-180 mm, y 40 to -40 mm, 100 mm in front
+    found = HandDetector(HandOptions()).detect(*scene([at_chest]))
+    assert len(found) == 1
+    assert np.allclose(found[0].position, (150.0, 0.0, 2400.0 + HandOptions().hand_depth_mm), atol=30)
+    assert HandDetector(HandOptions(near_front_mm=120)).detect(*scene([at_chest])) == []
+    lower = (slice(33, 38), slice(36, 40), 2400.0)  # the same 300 mm lower, in front of the belly: no push starts there
+    assert HandDetector(HandOptions()).detect(*scene([lower])) == []
+
+
+def test_an_arm_reaching_out_is_judged_without_its_cells_near_the_chest():
+    """A forearm raised 200 mm out, its upper arm 100 mm in front of the chest, its hand over by the face
+    (60 mm in front of the chest): where the arm joins the body is its elbow, so its end is up by the
+    head. Taken whole from 90 mm, the patch joins the body at the shoulder and by the face too, and
+    its end flips to the elbow: the cells near the chest do not count for an arm reaching farther."""
+    head = (slice(0, 12), slice(26, 35), 2440.0)
+    upper_arm = (slice(12, 22), slice(36, 41), 2400.0)  # x 120-200 mm, y 160 to -20 mm
+    forearm = (slice(2, 12), slice(35, 38), 2300.0)  # x 100-140 mm, y 180-360 mm
+    hand = (slice(0, 4), slice(31, 36), 2370.0)  # x 20-100 mm, y 340-400 mm, 70 mm in front of the face
+    arm = scene([head, upper_arm, forearm, hand], face_z=2440.0)
+    found = HandDetector(HandOptions()).detect(*arm)
+    without = HandDetector(HandOptions(near_front_mm=120)).detect(*arm)
+    assert len(found) == 1 and np.array_equal(found[0].position, without[0].position)
+    assert found[0].position[1] > 150  # above the shoulder line
+    flipped = HandDetector(HandOptions(front_mm=90)).detect(*arm)
+    assert len(flipped) == 1 and flipped[0].position[1] < 150
