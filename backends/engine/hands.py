@@ -35,6 +35,9 @@ class HandOptions(BaseModel):
     near_front_mm: float = Field(90, gt=0, description=(
         "an arm that nowhere stands `front_mm` out is extended where it stands this far in front of the "
         "trunk's upper half (a hand at the chest, a push about to start); its hand is its most forward end"))
+    arm_edge_mm: float = Field(60, ge=0, description=(
+        "an arm found from `near_front_mm` stands somewhere this far out of the body cells beside it (a "
+        "fist or forearm is 50-80 mm thick; a trunk leaning towards the camera is one smooth surface)"))
     beside_mm: float = Field(340, gt=0, description="farther than this sideways from the spine: extended")
     above_shoulder_mm: float = Field(150, description="higher than this above the shoulder line and clear of the head")
     head_clearance_mm: float = Field(190, gt=0, description="cells this close to the head joint are head, not hand")
@@ -93,7 +96,7 @@ class HandDetector:
         chest = mask & (g.y > (body.shoulder_y + body.hip_y) / 2)  # the trunk's upper half and above
         near = chest & self._before(front, body.face_z - g.z, head_clear, o.near_front_mm) & ~cand
         if near.any():
-            near = self._only_near(cand, near, g.pixel_area_mm2)
+            near = self._only_near(cand, near, mask, g.z, g.pixel_area_mm2)
             cand |= near
         if not cand.any():
             return []
@@ -157,18 +160,30 @@ class HandDetector:
         """Cells more than `mm` in front of the trunk (near the head, in front of the face)."""
         return (front > mm) & (head_clear | (before_face > mm))
 
-    def _only_near(self, cand: np.ndarray, near: np.ndarray, area_mm2: np.ndarray) -> np.ndarray:
-        """The patches of `near` cells joined to no patch of extended cells big enough to be a hand:
-        arms out no farther than a hand at the chest. An arm that reaches farther is judged by its
-        extended cells alone (with its upper arm in front of the chest, where the patch joins the
-        body would move, and so would its hand)."""
+    def _only_near(self, cand: np.ndarray, near: np.ndarray, mask: np.ndarray, z: np.ndarray,
+                   area_mm2: np.ndarray) -> np.ndarray:
+        """The patches of `near` cells joined to no patch of extended cells big enough to be a hand
+        (arms out no farther than a hand at the chest; an arm that reaches farther is judged by its
+        extended cells alone, as its upper arm in front of the chest would move where the patch
+        joins the body, and so its hand) that somewhere stand out of the body cells beside them by
+        an arm's thickness (a trunk leaning or moving towards the camera ahead of its estimated
+        surface is one smooth surface)."""
+        o = self.options
         count, patches = cv2.connectedComponents(cand.view(np.uint8), connectivity=8)
         area = np.bincount(patches[cand], weights=area_mm2[cand], minlength=count)
-        hands = cand & (area >= self.options.min_area_m2 * 1e6)[patches]
+        hands = cand & (area >= o.min_area_m2 * 1e6)[patches]
         count, arms = cv2.connectedComponents((cand | near).view(np.uint8), connectivity=8)
         reaching = np.zeros(count, bool)
         reaching[arms[hands]] = True
-        return near & ~reaching[arms]
+        behind = mask & ~(cand | near)
+        step = np.zeros(z.shape, np.float32)  # how far the body cells beside each cell lie behind it
+        step[1:] = np.where(behind[:-1], z[:-1] - z[1:], 0)
+        step[:-1] = np.maximum(step[:-1], np.where(behind[1:], z[1:] - z[:-1], 0))
+        step[:, 1:] = np.maximum(step[:, 1:], np.where(behind[:, :-1], z[:, :-1] - z[:, 1:], 0))
+        step[:, :-1] = np.maximum(step[:, :-1], np.where(behind[:, 1:], z[:, 1:] - z[:, :-1], 0))
+        edge = np.zeros(count, np.float32)
+        np.maximum.at(edge, arms[near], step[near])
+        return near & ~reaching[arms] & (edge >= o.arm_edge_mm)[arms]
 
     def _shoulder(self, x: float, neck: np.ndarray) -> np.ndarray:
         """The shoulder joint on the side of the body where x is."""

@@ -56,8 +56,9 @@ def test_a_head_leaning_forward_is_no_hand_and_a_hand_before_the_face_is():
 
 def test_a_hand_at_the_chest_is_found_from_nearer_than_an_arm_reaching_out():
     """A push starts with the hand at the chest, 90-120 mm in front of it: a hand there, with nothing
-    of the arm farther out, is a hand (found at its most forward end); without the nearer threshold
-    (near_front_mm = front_mm) it is not."""
+    of the arm farther out and standing out of the chest beside it, is a hand (found at its most
+    forward end); without the nearer threshold (near_front_mm = front_mm) it is not, nor is the trunk
+    bulging as far forward in one smooth surface."""
     at_chest = (slice(18, 23), slice(36, 40), 2400.0)  # x 120-180 mm, y 40 to -40 mm, 100 mm in front
     found = HandDetector(HandOptions()).detect(*scene([at_chest]))
     assert len(found) == 1
@@ -65,6 +66,10 @@ def test_a_hand_at_the_chest_is_found_from_nearer_than_an_arm_reaching_out():
     assert HandDetector(HandOptions(near_front_mm=120)).detect(*scene([at_chest])) == []
     lower = (slice(33, 38), slice(36, 40), 2400.0)  # the same 300 mm lower, in front of the belly: no push starts there
     assert HandDetector(HandOptions()).detect(*scene([lower])) == []
+    # the trunk itself bulging as far forward, smoothly (leaning, or moving ahead of its estimated surface)
+    bulge = [(slice(17, 24), slice(35, 41), 2450.0), (slice(18, 23), slice(36, 40), 2400.0)]
+    assert HandDetector(HandOptions()).detect(*scene(bulge)) == []
+    assert len(HandDetector(HandOptions(arm_edge_mm=50)).detect(*scene(bulge))) == 1
 
 
 def test_an_arm_reaching_out_is_judged_without_its_cells_near_the_chest():
