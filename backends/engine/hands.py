@@ -87,14 +87,14 @@ class HandDetector:
         top, left = box[0].start, box[1].start
         tx, _, _ = body.torso.tolist()
         dx = g.x - tx
-        front = body.surface_z - g.z
+        front, before_face = body.surface_z - g.z, body.face_z - g.z
         hx, hy = g.x - float(body.head[0]), g.y - float(body.head[1])
         head_clear = hx * hx + hy * hy > o.head_clearance_mm ** 2
         out = ((np.abs(dx) > o.beside_mm) & ~core) | ((g.y > body.shoulder_y + o.above_shoulder_mm) & head_clear)
         above_legs = mask & (g.y > body.hip_y)
-        cand = above_legs & (out | self._before(front, body.face_z - g.z, head_clear, o.front_mm))
+        cand = above_legs & (out | self._before(front, before_face, head_clear, o.front_mm))
         chest = mask & (g.y > (body.shoulder_y + body.hip_y) / 2)  # the trunk's upper half and above
-        near = chest & self._before(front, body.face_z - g.z, head_clear, o.near_front_mm) & ~cand
+        near = chest & self._before(front, before_face, head_clear, o.near_front_mm) & ~cand
         if near.any():
             near = self._only_near(cand, near, mask, g.z, g.pixel_area_mm2)
             cand |= near
