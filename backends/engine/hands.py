@@ -11,7 +11,8 @@ of the spine the one farther from that side's shoulder is kept, an end beside an
 trunk within an upper arm of its shoulder is an elbow, and an end within a forearm of the base
 of the neck is the head or a shoulder seen at an angle. An arm that nowhere stands that far out
 (a hand at the chest, a push about to start) is extended from a lower threshold in front of the
-chest; so close to the body its whole edge joins it, so its hand is its most forward end. An arm
+chest, if it stands out of the body beside it by an arm's thickness and does not run up into the
+head; so close to the body its whole edge joins it, so its hand is its most forward end. An arm
 that does reach farther is judged by its extended cells alone: its upper arm in front of the
 chest would move where the patch joins the body (and, touching the head, flip the hand to the
 elbow). All in mm.
@@ -96,7 +97,7 @@ class HandDetector:
         chest = mask & (g.y > (body.shoulder_y + body.hip_y) / 2)  # the trunk's upper half and above
         near = chest & self._before(front, before_face, head_clear, o.near_front_mm) & ~cand
         if near.any():
-            near = self._only_near(cand, near, mask, g.z, g.pixel_area_mm2)
+            near = self._only_near(cand, near, mask, g.z, g.pixel_area_mm2, mask & ~head_clear)
             cand |= near
         if not cand.any():
             return []
@@ -161,20 +162,21 @@ class HandDetector:
         return (front > mm) & (head_clear | (before_face > mm))
 
     def _only_near(self, cand: np.ndarray, near: np.ndarray, mask: np.ndarray, z: np.ndarray,
-                   area_mm2: np.ndarray) -> np.ndarray:
-        """The patches of `near` cells joined to no patch of extended cells big enough to be a hand
-        (arms out no farther than a hand at the chest; an arm that reaches farther is judged by its
-        extended cells alone, as its upper arm in front of the chest would move where the patch
-        joins the body, and so its hand) that somewhere stand out of the body cells beside them by
-        an arm's thickness (a trunk leaning or moving towards the camera ahead of its estimated
-        surface is one smooth surface)."""
+                   area_mm2: np.ndarray, head: np.ndarray) -> np.ndarray:
+        """The patches of `near` cells that are arms at the chest: joined to no patch of extended
+        cells big enough to be a hand (an arm that reaches farther is judged by its extended cells
+        alone: its upper arm in front of the chest would move where the patch joins the body, and so
+        its hand), not running up into the head (a chin or throat ahead of a trunk walking in), and
+        somewhere standing an arm's thickness out of the body cells beside them (a trunk leaning or
+        moving towards the camera ahead of its estimated surface is one smooth surface)."""
         o = self.options
         count, patches = cv2.connectedComponents(cand.view(np.uint8), connectivity=8)
         area = np.bincount(patches[cand], weights=area_mm2[cand], minlength=count)
         hands = cand & (area >= o.min_area_m2 * 1e6)[patches]
         count, arms = cv2.connectedComponents((cand | near).view(np.uint8), connectivity=8)
-        reaching = np.zeros(count, bool)
-        reaching[arms[hands]] = True
+        other = np.zeros(count, bool)  # arms reaching farther, or running into the head
+        other[arms[hands]] = True
+        other[arms[cv2.dilate(head.view(np.uint8), ONE_CELL_GAP).view(bool)]] = True
         behind = mask & ~(cand | near)
         step = np.zeros(z.shape, np.float32)  # how far the body cells beside each cell lie behind it
         step[1:] = np.where(behind[:-1], z[:-1] - z[1:], 0)
@@ -183,7 +185,7 @@ class HandDetector:
         step[:, :-1] = np.maximum(step[:, :-1], np.where(behind[:, 1:], z[:, 1:] - z[:, :-1], 0))
         edge = np.zeros(count, np.float32)
         np.maximum.at(edge, arms[near], step[near])
-        return near & ~reaching[arms] & (edge >= o.arm_edge_mm)[arms]
+        return near & ~other[arms] & (edge >= o.arm_edge_mm)[arms]
 
     def _shoulder(self, x: float, neck: np.ndarray) -> np.ndarray:
         """The shoulder joint on the side of the body where x is."""
