@@ -310,6 +310,21 @@ def rise_forward(to: tuple[float, float, float], seconds: float = 0.5, both: boo
     return Performance(hands, max(getattr(p, "end", 0.0) for p in hands.values()) + 0.5, torso)
 
 
+def rise_into_push(top: float = 350.0, rise_s: float = 0.35, lift_forward: float = 150.0,
+                   push: float = 200.0, push_after: float = 0.25, push_s: float = 0.3) -> Performance:
+    """From hanging at the side, the right hand rises `top` mm high (relative to the torso) in `rise_s`,
+    coming `lift_forward` mm forward as it does, and `push_after` s into the rise, without a stop, pushes
+    `push` mm further forward in `push_s` (UTD-MHAD's subject 3 pushes so)."""
+    r = np.array(REST[Side.RIGHT])
+
+    def at(t: float) -> np.ndarray:
+        rise = float(min_jerk(np.array((t - 0.4) / rise_s)))
+        forward = float(min_jerk(np.array((t - 0.4 - push_after) / push_s)))
+        return r + np.array([0.0, (top - r[1]) * rise, -lift_forward * rise - push * forward])
+
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: at}, 0.4 + push_after + push_s + 1.0)
+
+
 def run_in_place(seconds: float = 3.0, swing: float = 450.0, period: float = 0.6) -> Performance:
     """Running on the spot: the arms pump forward and up, back and down, in turn, `period` s a cycle."""
     def arm(side: Side) -> Callable[[float], np.ndarray]:

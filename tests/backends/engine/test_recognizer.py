@@ -178,6 +178,12 @@ def test_a_push_rising_from_a_hanging_hand_is_a_click():
     assert completed(perform(c.rise_forward((150.0, 200.0, -600.0)))) == ["click"]
 
 
+def test_a_push_following_a_rise_from_hanging_without_a_stop_is_a_click():
+    """The hand rises 680 mm to face height, 150 mm forward meanwhile, and pushes 200 mm on as the rise ends:
+    judged from where it heads forward more than up, it is the push it ends in."""
+    assert completed(perform(c.rise_into_push())) == ["click"]
+
+
 def test_arms_rising_forward_together_an_arm_lifted_or_running_arms_are_no_click():
     squat = c.rise_forward((150.0, 200.0, -600.0), both=True, sink=400.0)
     assert completed(perform(squat)) == []
