@@ -643,10 +643,11 @@ class _Hand:
         k = self.rec.size(stroke.start)
         end = core.end
         sideways = abs(float(end.p[X] - core.start.p[X]))
+        push = self.turned_forward(core, r.click_end_mm * k)
         return (stroke.direction < 0 and core.travel >= r.click_min_travel_mm * k
                 and core.peak_speed >= r.click_min_peak_speed_mm_s
                 and core.travel >= r.click_dominance * sideways
-                and self.forward_per_rise(core) >= r.click_min_forward_per_rise
+                and push.travel >= r.click_min_forward_per_rise * float(end.p[Y] - push.start.p[Y])
                 and self.ends_forward(core, r.click_end_mm * k) >= r.click_end_dominance
                 and -float(end.p[Z]) >= r.click_min_reach_mm * k
                 and float(end.p[Y]) >= end.shoulder - r.click_max_below_shoulder_mm * k
@@ -654,14 +655,15 @@ class _Hand:
                 and core.body_speed <= r.steady_body_max_vertical_speed_mm_s)
 
     @staticmethod
-    def forward_per_rise(core: Stroke) -> float:
-        """Forward travel over rise, from the first sample of the core heading forward at least as fast
-        as it rises: a push that follows a rise from hanging without a stop is judged as the push it
-        ends in; an arm lifted from the side (to point, or to start a swipe) rises more than it comes
-        forward from there too."""
+    def turned_forward(core: Stroke, push_mm: float) -> Stroke:
+        """The core from its first sample heading forward at least as fast as it rises, if the hand still
+        travels `push_mm` forward from there (a push's last stretch); else the whole core. A push that
+        follows a rise from hanging without a stop is judged as the push it ends in; an arm lifted from
+        the side (to point, to start a swipe, to balance a kick) rises more than it comes forward from
+        there, or comes forward less than that."""
         first = next((i for i, q in enumerate(core.samples) if core.direction * q.v[Z] >= q.v[Y]), 0)
         push = Stroke(core.axis, core.direction, core.samples[first:])
-        return push.travel / max(float(push.end.p[Y] - push.start.p[Y]), 1e-3)
+        return push if push.travel >= push_mm else core
 
     @staticmethod
     def ends_forward(stroke: Stroke, stretch_mm: float) -> float:

@@ -310,8 +310,8 @@ def rise_forward(to: tuple[float, float, float], seconds: float = 0.5, both: boo
     return Performance(hands, max(getattr(p, "end", 0.0) for p in hands.values()) + 0.5, torso)
 
 
-def rise_into_push(top: float = 350.0, rise_s: float = 0.35, lift_forward: float = 150.0,
-                   push: float = 200.0, push_after: float = 0.25, push_s: float = 0.3) -> Performance:
+def rise_into_push(top: float = 400.0, rise_s: float = 0.4, lift_forward: float = 150.0,
+                   push: float = 220.0, push_after: float = 0.3, push_s: float = 0.3) -> Performance:
     """From hanging at the side, the right hand rises `top` mm high (relative to the torso) in `rise_s`,
     coming `lift_forward` mm forward as it does, and `push_after` s into the rise, without a stop, pushes
     `push` mm further forward in `push_s` (UTD-MHAD's subject 3 pushes so)."""

@@ -179,7 +179,7 @@ def test_a_push_rising_from_a_hanging_hand_is_a_click():
 
 
 def test_a_push_following_a_rise_from_hanging_without_a_stop_is_a_click():
-    """The hand rises 680 mm to face height, 150 mm forward meanwhile, and pushes 200 mm on as the rise ends:
+    """The hand rises 730 mm to face height, 150 mm forward meanwhile, and pushes 220 mm on as the rise ends:
     judged from where it heads forward more than up, it is the push it ends in."""
     assert completed(perform(c.rise_into_push())) == ["click"]
 
