@@ -182,9 +182,9 @@ class GestureRules(BaseModel):
         "long a swing; a push that comes after two such swings back and forth is a swing too")
     click_min_forward_per_rise: float = Field(
         0.6, ge=0, description="a push goes forward at least this share of how far it rises, from where it "
-        "heads forward at least as fast as it rises (a push that follows a rise from hanging without a stop is "
-        "judged from its turn forward; an arm lifted from the side to start a swipe, or to point, rises more "
-        "than it comes forward from there too)")
+        "heads forward at least as fast as it rises if it still goes `click_end_mm` forward from there (a push "
+        "that follows a rise from hanging without a stop is judged from its turn forward; an arm lifted from "
+        "the side to start a swipe, or to point, rises more than it comes forward)")
     click_hanging_below_shoulder_mm: float = Field(
         300.0, gt=0, description="a push that starts this far below the shoulders starts from a hanging "
         "hand; then another hand rising forward with it makes both arms' swing (squat, jump), no push")
