@@ -29,6 +29,11 @@ from backends.engine.trunk import Body
 from backends.engine.segmentation import ONE_CELL_GAP, Segment, bounding_box
 
 
+#: (each cell, its neighbour) as slices of a grid: the neighbours below, above, right and left
+NEIGHBOURS = ((np.s_[1:, :], np.s_[:-1, :]), (np.s_[:-1, :], np.s_[1:, :]),
+              (np.s_[:, 1:], np.s_[:, :-1]), (np.s_[:, :-1], np.s_[:, 1:]))
+
+
 class HandOptions(BaseModel):
     model_config = ConfigDict(extra="forbid")
     front_mm: float = Field(120, gt=0, description=(
@@ -116,19 +121,20 @@ class HandDetector:
             pts = np.stack([g.x[ys, xs], g.y[ys, xs], g.z[ys, xs]], axis=1).astype(np.float64)
             joint = attached[ys, xs]
             root = pts[joint].mean(axis=0) if joint.any() else neck
-            from_root = np.linalg.norm(pts - root, axis=1)
-            tips = [int(np.argmax(from_root))]
-            apart = np.linalg.norm(pts - pts[tips[0]], axis=1) > o.hands_apart_mm
             if near[ys, xs].all():
                 # An arm at the chest lies within a joint's step of it all along its edge: where it
                 # joins the body says nothing. Its hand is its most forward end (a push starts there).
                 tips = [int(np.argmin(pts[:, 2]))]
-            elif apart.any():
+            else:
+                from_root = np.linalg.norm(pts - root, axis=1)
+                tips = [int(np.argmax(from_root))]
                 # Both hands out together (a two-handed push) can make one patch: a second end as far
                 # from where the patch joins the body, and a hand's width away from the first, is a hand.
-                second = int(np.argmax(np.where(apart, from_root, -1.0)))
-                if from_root[second] >= o.second_hand_ratio * from_root[tips[0]]:
-                    tips.append(second)
+                apart = np.linalg.norm(pts - pts[tips[0]], axis=1) > o.hands_apart_mm
+                if apart.any():
+                    second = int(np.argmax(np.where(apart, from_root, -1.0)))
+                    if from_root[second] >= o.second_hand_ratio * from_root[tips[0]]:
+                        tips.append(second)
             for tip in tips:
                 if pts[tip, 1] < body.hip_y + o.hip_margin_mm and body.surface_z - pts[tip, 2] < o.front_mm:
                     continue  # the limb goes on below the hips at the body's side: a hanging arm
@@ -179,10 +185,8 @@ class HandDetector:
         other[arms[cv2.dilate(head.view(np.uint8), ONE_CELL_GAP).view(bool)]] = True
         behind = mask & ~(cand | near)
         step = np.zeros(z.shape, np.float32)  # how far the body cells beside each cell lie behind it
-        step[1:] = np.where(behind[:-1], z[:-1] - z[1:], 0)
-        step[:-1] = np.maximum(step[:-1], np.where(behind[1:], z[1:] - z[:-1], 0))
-        step[:, 1:] = np.maximum(step[:, 1:], np.where(behind[:, :-1], z[:, :-1] - z[:, 1:], 0))
-        step[:, :-1] = np.maximum(step[:, :-1], np.where(behind[:, 1:], z[:, 1:] - z[:, :-1], 0))
+        for cell, beside in NEIGHBOURS:
+            step[cell] = np.maximum(step[cell], np.where(behind[beside], z[beside] - z[cell], 0))
         edge = np.zeros(count, np.float32)
         np.maximum.at(edge, arms[near], step[near])
         return near & ~other[arms] & (edge >= o.arm_edge_mm)[arms]
@@ -211,11 +215,7 @@ class HandDetector:
     def _attached(self, cand: np.ndarray, rest: np.ndarray, z: np.ndarray) -> np.ndarray:
         """Candidate cells joined to the rest of the body without a depth jump: where each arm starts."""
         out = np.zeros_like(cand)
-        near_y = np.abs(z[1:, :] - z[:-1, :]) < self.options.joint_step_mm
-        near_x = np.abs(z[:, 1:] - z[:, :-1]) < self.options.joint_step_mm
-        out[1:, :] |= rest[:-1, :] & near_y
-        out[:-1, :] |= rest[1:, :] & near_y
-        out[:, 1:] |= rest[:, :-1] & near_x
-        out[:, :-1] |= rest[:, 1:] & near_x
+        for cell, beside in NEIGHBOURS:
+            out[cell] |= rest[beside] & (np.abs(z[beside] - z[cell]) < self.options.joint_step_mm)
         return out & cand
 
