@@ -29,7 +29,8 @@ from backends.engine.trunk import Body
 from backends.engine.segmentation import ONE_CELL_GAP, Segment, bounding_box
 
 
-#: (each cell, its neighbour) as slices of a grid: the neighbours below, above, right and left
+#: (each cell, its neighbour) as slices of a grid: the neighbours below, above, right and left (for
+#: the near path; `_attached`, run every frame, shares each axis's depth difference between two)
 NEIGHBOURS = ((np.s_[1:, :], np.s_[:-1, :]), (np.s_[:-1, :], np.s_[1:, :]),
               (np.s_[:, 1:], np.s_[:, :-1]), (np.s_[:, :-1], np.s_[:, 1:]))
 
@@ -215,7 +216,11 @@ class HandDetector:
     def _attached(self, cand: np.ndarray, rest: np.ndarray, z: np.ndarray) -> np.ndarray:
         """Candidate cells joined to the rest of the body without a depth jump: where each arm starts."""
         out = np.zeros_like(cand)
-        for cell, beside in NEIGHBOURS:
-            out[cell] |= rest[beside] & (np.abs(z[beside] - z[cell]) < self.options.joint_step_mm)
+        near_y = np.abs(z[1:, :] - z[:-1, :]) < self.options.joint_step_mm  # per axis once: every frame
+        near_x = np.abs(z[:, 1:] - z[:, :-1]) < self.options.joint_step_mm
+        out[1:, :] |= rest[:-1, :] & near_y
+        out[:-1, :] |= rest[1:, :] & near_y
+        out[:, 1:] |= rest[:, :-1] & near_x
+        out[:, :-1] |= rest[:, 1:] & near_x
         return out & cand
 
