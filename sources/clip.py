@@ -35,6 +35,9 @@ class Clip:
     def __init__(self, path: str | Path) -> None:
         self.path = Path(path)
         try:
+            if self.path.exists() and not zipfile.is_zipfile(self.path):  # np.load would call it a pickle
+                raise UserError(f"{self.path}: not a readable .npz depth clip (not a zip archive of arrays; "
+                                "see docs/architecture.md, Depth clip)")
             with np.load(self.path, allow_pickle=False) as z:
                 arrays = {k: z[k] for k in z.files}
         except FileNotFoundError:

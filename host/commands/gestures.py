@@ -58,35 +58,42 @@ def read_trajectories(path: Path) -> Iterator[TrajectoryFrame]:
     except OSError as error:
         raise UserError(f"{path}: cannot read the trajectory file ({error.strerror})") from None
     with handle:
-        reader = csv.DictReader(handle)
-        missing = [c for c in COLUMNS if c not in (reader.fieldnames or [])]
-        if missing:
-            raise UserError(f"{path}:1: the header lacks {', '.join(missing)}; "
-                            f"expected {','.join(COLUMNS)} (docs/architecture.md, Hand trajectories)")
-        frame: TrajectoryFrame | None = None
-        for row in reader:
-            line = reader.line_num
-            if not any((v or "").strip() for v in row.values()):
-                continue
-            t, x, y, z = (_number(path, line, row, c) for c in ("t", "x", "y", "z"))
-            if not math.isfinite(t):
-                raise UserError(f"{path}:{line}: t must be a finite number of seconds, got {row['t']!r}")
-            if frame is not None and t < frame.t:
-                raise UserError(f"{path}:{line}: t goes back in time ({t} after {frame.t}); sort the rows by t")
-            if frame is None or t != frame.t:
-                if frame is not None:
-                    yield frame
-                frame = TrajectoryFrame(t)
-            if not all(math.isfinite(c) for c in (x, y, z)):
-                continue  # an unknown position: the hand is not seen at this instant
-            name = (row["hand"] or "").strip().lower()
-            if name in BODY_POINTS:
-                frame.body[name] = (x, y, z)
-            else:
-                hand_id, side = _hand(path, line, name)
-                frame.hands.append(Hand(hand_id, HandState.TRACKING, (x, y, z), side))
-        if frame is not None:
-            yield frame
+        try:
+            yield from _frames(path, csv.DictReader(handle))
+        except (UnicodeDecodeError, csv.Error) as error:
+            raise UserError(f"{path}: not a text CSV of t,hand,x,y,z rows ({error})") from None
+
+
+def _frames(path: Path, reader: csv.DictReader) -> Iterator[TrajectoryFrame]:
+    """The rows of `reader` grouped by instant; bad rows raise UserError naming the line."""
+    missing = [c for c in COLUMNS if c not in (reader.fieldnames or [])]
+    if missing:
+        raise UserError(f"{path}:1: the header lacks {', '.join(missing)}; "
+                        f"expected {','.join(COLUMNS)} (docs/architecture.md, Hand trajectories)")
+    frame: TrajectoryFrame | None = None
+    for row in reader:
+        line = reader.line_num
+        if not any((v or "").strip() for v in row.values()):
+            continue
+        t, x, y, z = (_number(path, line, row, c) for c in ("t", "x", "y", "z"))
+        if not math.isfinite(t):
+            raise UserError(f"{path}:{line}: t must be a finite number of seconds, got {row['t']!r}")
+        if frame is not None and t < frame.t:
+            raise UserError(f"{path}:{line}: t goes back in time ({t} after {frame.t}); sort the rows by t")
+        if frame is None or t != frame.t:
+            if frame is not None:
+                yield frame
+            frame = TrajectoryFrame(t)
+        if not all(math.isfinite(c) for c in (x, y, z)):
+            continue  # an unknown position: the hand is not seen at this instant
+        name = (row["hand"] or "").strip().lower()
+        if name in BODY_POINTS:
+            frame.body[name] = (x, y, z)
+        else:
+            hand_id, side = _hand(path, line, name)
+            frame.hands.append(Hand(hand_id, HandState.TRACKING, (x, y, z), side))
+    if frame is not None:
+        yield frame
 
 
 def _number(path: Path, line: int, row: dict, column: str) -> float:

@@ -125,3 +125,11 @@ def test_a_bad_file_is_one_clear_line_naming_file_and_line(tmp_path, capsys, tex
 def test_a_missing_file_is_named(tmp_path, capsys):
     assert issv(["gestures", str(tmp_path / "nope.csv")]) == 1
     assert "nope.csv" in capsys.readouterr().err
+
+
+def test_a_binary_file_is_named_as_no_text_csv(tmp_path, capsys):
+    path = tmp_path / "take.csv"
+    path.write_bytes(b"PK\x03\x04\xff\xfe\x00" * 50)  # a zip (a .npz clip) given where a CSV belongs
+    assert issv(["gestures", str(path)]) == 1
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"{path}: not a text CSV of t,hand,x,y,z rows") and len(err.splitlines()) == 1

@@ -33,6 +33,11 @@ def test_corrupt_and_incomplete_clips_say_what_is_wrong(tmp_path):
     broken.write_bytes(b"PK\x03\x04 not really a zip")
     with pytest.raises(UserError, match="broken.npz: not a readable .npz depth clip"):
         frames_of(broken)
+    noise = tmp_path / "noise.npz"
+    noise.write_bytes(bytes(range(256)) * 4)
+    with pytest.raises(UserError, match=r"noise.npz: not a readable .npz depth clip \(not a zip archive") as error:
+        frames_of(noise)
+    assert "pickle" not in str(error.value)
     partial = tmp_path / "partial.npz"
     np.savez(partial, depth=np.zeros((2, 4, 4), np.uint16))
     with pytest.raises(UserError, match="partial.npz: depth clip has no `timestamps` array"):
