@@ -69,9 +69,7 @@ def source_intrinsics(prof: profiles.Profile):
 
 
 def from_points(prof: profiles.Profile, points: str) -> list[list[float]]:
-    header = Path(points).read_text(encoding="utf-8").partition("\n")[0] if Path(points).is_file() else ""
-    intrinsics = source_intrinsics(prof) if "z" in header.split(",") else None
-    cam, stage = read_points(points, intrinsics)
+    cam, stage = read_points(points, lambda: source_intrinsics(prof))
     try:
         h = homography(cam, stage)
     except ValueError as error:

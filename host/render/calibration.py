@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import csv
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
@@ -108,9 +109,10 @@ def check_calibration(matrix) -> np.ndarray:
     return m
 
 
-def read_points(path: str | Path, intrinsics: Intrinsics | None) -> tuple[np.ndarray, np.ndarray]:
+def read_points(path: str | Path, intrinsics: Callable[[], Intrinsics | None]) -> tuple[np.ndarray, np.ndarray]:
     """A calibration points file: header `u,v,stage_x,stage_y` (depth pixels) or
-    `x,y,z,stage_x,stage_y` (camera mm, projected with the source's intrinsics); >= 4 rows."""
+    `x,y,z,stage_x,stage_y` (camera mm, projected with the source's intrinsics, which `intrinsics()`
+    gives: asked only then, as it may open the camera); >= 4 rows."""
     path = Path(path)
     try:
         with path.open(newline="", encoding="utf-8") as f:
@@ -124,13 +126,14 @@ def read_points(path: str | Path, intrinsics: Intrinsics | None) -> tuple[np.nda
     if not ({"stage_x", "stage_y"} <= header and (mm or {"u", "v"} <= header)):
         raise UserError(f"{path}: expected a header `u,v,stage_x,stage_y` (depth pixels) or "
                         f"`x,y,z,stage_x,stage_y` (camera mm), got {','.join(rows[0]) if rows else 'an empty file'}")
-    if mm and intrinsics is None:
+    camera = intrinsics() if mm else None
+    if mm and camera is None:
         raise UserError(f"{path}: camera mm need the source's intrinsics; give depth pixels u,v instead")
     cam, stage = [], []
     for line, row in enumerate(rows, start=2):
         try:
             if mm:
-                u, v, _ = intrinsics.world_to_depth(float(row["x"]), float(row["y"]), float(row["z"]))
+                u, v, _ = camera.world_to_depth(float(row["x"]), float(row["y"]), float(row["z"]))
             else:
                 u, v = float(row["u"]), float(row["v"])
             cam.append((u, v))

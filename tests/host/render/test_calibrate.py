@@ -85,6 +85,9 @@ def test_too_few_points_or_a_bad_header_is_one_clear_line(profile, tmp_path, cap
     points.write_text("a,b\n1,2\n")
     assert main(["calibrate", str(profile), "--points", str(points)]) == 1
     assert "expected a header" in capsys.readouterr().err
+    points.write_bytes(b"\xff\xfe\x00photo" * 20)  # a picture given for the points file
+    assert main(["calibrate", str(profile), "--points", str(points)]) == 1
+    assert f"{points}: cannot read the points file" in capsys.readouterr().err
     assert "calibration" not in profile.read_text()
 
 
