@@ -149,9 +149,17 @@ class HandTracker:
     # -- tracks ------------------------------------------------------------------------------
     def _update_tracks(self, t: float, found: list[Candidate], torso: np.ndarray | None,
                        mirrored: bool) -> tuple[Hand, ...]:
-        o = self.options
+        """Follow the tracks the candidates continue, start new ones, and report the hands (those of
+        ended tracks LOST), sorted by id."""
         matched = self._match(t, found, torso, mirrored)
-        out: list[Hand] = []
+        self._follow(t, matched)
+        out = self._admit(t, [c for c in found if c not in matched.values()], matched, torso, mirrored)
+        out += self._report(t)
+        return tuple(sorted(out, key=lambda h: h.id))
+
+    def _follow(self, t: float, matched: dict[_Track, Candidate]) -> None:
+        """Move the matched tracks to their candidates; a track seen once and not again is noise."""
+        o = self.options
         for track, cand in matched.items():
             track.seen, track.at_border, track.confidence = t, cand.at_border, cand.confidence
             track.reach = cand.reach
@@ -159,7 +167,13 @@ class HandTracker:
             track.confirmed = track.confirmed or t - track.born >= o.confirm_s
         for track in [tr for tr in self._tracks if not tr.confirmed and tr not in matched]:
             self._tracks.remove(track)  # a candidate seen once and not again: noise, never reported
-        free = [c for c in found if c not in matched.values()]  # farthest reach first
+
+    def _admit(self, t: float, free: list[Candidate], matched: dict[_Track, Candidate],
+               torso: np.ndarray | None, mirrored: bool) -> list[Hand]:
+        """New tracks for the unmatched candidates (farthest reach first) that are hands, not
+        another part of an arm in view; the LOST hands of the tracks they replace."""
+        o = self.options
+        out: list[Hand] = []
         for cand in free:
             side = self._side_of(cand, torso, mirrored)
             same = [tr for tr in self._tracks if tr.side is side and side is not Side.UNKNOWN]
@@ -175,6 +189,13 @@ class HandTracker:
                     break
                 out.extend(self._drop(min(stale, key=lambda tr: tr.seen)))  # replaces the longest unseen
             self._tracks.append(self._birth(t, cand, side))
+        return out
+
+    def _report(self, t: float) -> list[Hand]:
+        """Each track's hand now: LOST once out of sight too long, else NEW, TOUCHING_FOV or
+        TRACKING while seen or held."""
+        o = self.options
+        out: list[Hand] = []
         for track in list(self._tracks):
             unseen = t - track.seen
             if unseen > o.lost_timeout_s:
@@ -190,7 +211,7 @@ class HandTracker:
                 state = HandState.TRACKING
             track.reported = True
             out.append(self._hand(track, state, track.confidence))
-        return tuple(sorted(out, key=lambda h: h.id))
+        return out
 
     def drop_all(self) -> tuple[Hand, ...]:
         """The user is gone: every hand ends now (LOST where last seen, those ever reported)."""
