@@ -26,7 +26,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.trunk import Body
-from backends.engine.segmentation import ONE_CELL_GAP, Segment, bounding_box
+from backends.engine.segmentation import ONE_CELL_GAP, Grid, Segment, bounding_box
 
 
 #: (each cell, its neighbour) as slices of a grid: the neighbours below, above, right and left (for
@@ -90,21 +90,9 @@ class HandDetector:
         box = bounding_box(seg.mask, 2)
         if box is None:
             return []
-        g, mask, core = seg.grid.crop(box), seg.mask[box], body.core[box]
+        g, mask = seg.grid.crop(box), seg.mask[box]
         top, left = box[0].start, box[1].start
-        tx, _, _ = body.torso.tolist()
-        dx = g.x - tx
-        front, before_face = body.surface_z - g.z, body.face_z - g.z
-        hx, hy = g.x - float(body.head[0]), g.y - float(body.head[1])
-        head_clear = hx * hx + hy * hy > o.head_clearance_mm ** 2
-        out = ((np.abs(dx) > o.beside_mm) & ~core) | ((g.y > body.shoulder_y + o.above_shoulder_mm) & head_clear)
-        above_legs = mask & (g.y > body.hip_y)
-        cand = above_legs & (out | self._before(front, before_face, head_clear, o.front_mm))
-        chest = mask & (g.y > (body.shoulder_y + body.hip_y) / 2)  # the trunk's upper half and above
-        near = chest & self._before(front, before_face, head_clear, o.near_front_mm) & ~cand
-        if near.any():
-            near = self._only_near(cand, near, mask, g.z, g.pixel_area_mm2, mask & ~head_clear)
-            cand |= near
+        cand, near = self._extended(g, mask, body.core[box], body)
         if not cand.any():
             return []
         # One-cell gaps (dropped readings) do not cut an arm in two; the gap cells stay out of it.
@@ -112,7 +100,7 @@ class HandDetector:
         count, labels = cv2.connectedComponents(bridged, connectivity=8)
         labels[~cand] = 0
         attached = self._attached(cand, mask & ~cand, g.z)
-        neck = np.array([tx, body.shoulder_y, body.torso[2]])
+        neck = np.array([float(body.torso[0]), body.shoulder_y, body.torso[2]])
         h, w = seg.mask.shape  # the edges of the segment's grid (the image's, where the user reaches them)
         found: list[Candidate] = []
         for label in range(1, count):
@@ -122,20 +110,7 @@ class HandDetector:
             pts = np.stack([g.x[ys, xs], g.y[ys, xs], g.z[ys, xs]], axis=1).astype(np.float64)
             joint = attached[ys, xs]
             root = pts[joint].mean(axis=0) if joint.any() else neck
-            if near[ys, xs].all():
-                # An arm at the chest lies within a joint's step of it all along its edge: where it
-                # joins the body says nothing. Its hand is its most forward end (a push starts there).
-                tips = [int(np.argmin(pts[:, 2]))]
-            else:
-                from_root = np.linalg.norm(pts - root, axis=1)
-                tips = [int(np.argmax(from_root))]
-                # Both hands out together (a two-handed push) can make one patch: a second end as far
-                # from where the patch joins the body, and a hand's width away from the first, is a hand.
-                apart = np.linalg.norm(pts - pts[tips[0]], axis=1) > o.hands_apart_mm
-                if apart.any():
-                    second = int(np.argmax(np.where(apart, from_root, -1.0)))
-                    if from_root[second] >= o.second_hand_ratio * from_root[tips[0]]:
-                        tips.append(second)
+            tips = self._tips(pts, root, at_chest=bool(near[ys, xs].all()))
             for tip in tips:
                 if pts[tip, 1] < body.hip_y + o.hip_margin_mm and body.surface_z - pts[tip, 2] < o.front_mm:
                     continue  # the limb goes on below the hips at the body's side: a hanging arm
@@ -162,6 +137,43 @@ class HandDetector:
             if all(np.linalg.norm(c.position - k.position) > o.hands_apart_mm for k in kept):
                 kept.append(c)
         return kept[: o.max_hands]
+
+    def _extended(self, g: Grid, mask: np.ndarray, core: np.ndarray, body: Body) -> tuple[np.ndarray, np.ndarray]:
+        """The extended cells of the user (see the module doc), and those of them that are so only
+        as an arm at the chest (extended from `near_front_mm`)."""
+        o = self.options
+        front, before_face = body.surface_z - g.z, body.face_z - g.z
+        hx, hy = g.x - float(body.head[0]), g.y - float(body.head[1])
+        head_clear = hx * hx + hy * hy > o.head_clearance_mm ** 2
+        out = ((np.abs(g.x - float(body.torso[0])) > o.beside_mm) & ~core) | \
+            ((g.y > body.shoulder_y + o.above_shoulder_mm) & head_clear)
+        above_legs = mask & (g.y > body.hip_y)
+        cand = above_legs & (out | self._before(front, before_face, head_clear, o.front_mm))
+        chest = mask & (g.y > (body.shoulder_y + body.hip_y) / 2)  # the trunk's upper half and above
+        near = chest & self._before(front, before_face, head_clear, o.near_front_mm) & ~cand
+        if near.any():
+            near = self._only_near(cand, near, mask, g.z, g.pixel_area_mm2, mask & ~head_clear)
+            cand |= near
+        return cand, near
+
+    def _tips(self, pts: np.ndarray, root: np.ndarray, at_chest: bool) -> list[int]:
+        """The hands of one arm's patch (indices into `pts`): its end farthest from where it joins
+        the body, and a second end for two hands out together."""
+        if at_chest:
+            # An arm at the chest lies within a joint's step of it all along its edge: where it
+            # joins the body says nothing. Its hand is its most forward end (a push starts there).
+            return [int(np.argmin(pts[:, 2]))]
+        o = self.options
+        from_root = np.linalg.norm(pts - root, axis=1)
+        tips = [int(np.argmax(from_root))]
+        # Both hands out together (a two-handed push) can make one patch: a second end as far
+        # from where the patch joins the body, and a hand's width away from the first, is a hand.
+        apart = np.linalg.norm(pts - pts[tips[0]], axis=1) > o.hands_apart_mm
+        if apart.any():
+            second = int(np.argmax(np.where(apart, from_root, -1.0)))
+            if from_root[second] >= o.second_hand_ratio * from_root[tips[0]]:
+                tips.append(second)
+        return tips
 
     @staticmethod
     def _before(front: np.ndarray, before_face: np.ndarray, head_clear: np.ndarray, mm: float) -> np.ndarray:
