@@ -73,27 +73,36 @@ def _frames(path: Path, reader: csv.DictReader) -> Iterator[TrajectoryFrame]:
     frame: TrajectoryFrame | None = None
     for row in reader:
         line = reader.line_num
-        if not any((v or "").strip() for v in row.values()):
+        parsed = _row(path, line, row)
+        if parsed is None:
             continue
-        t, x, y, z = (_number(path, line, row, c) for c in ("t", "x", "y", "z"))
-        if not math.isfinite(t):
-            raise UserError(f"{path}:{line}: t must be a finite number of seconds, got {row['t']!r}")
+        t, name, position = parsed
         if frame is not None and t < frame.t:
             raise UserError(f"{path}:{line}: t goes back in time ({t} after {frame.t}); sort the rows by t")
         if frame is None or t != frame.t:
             if frame is not None:
                 yield frame
             frame = TrajectoryFrame(t)
-        if not all(math.isfinite(c) for c in (x, y, z)):
+        if position is None:
             continue  # an unknown position: the hand is not seen at this instant
-        name = (row["hand"] or "").strip().lower()
         if name in BODY_POINTS:
-            frame.body[name] = (x, y, z)
+            frame.body[name] = position
         else:
             hand_id, side = _hand(path, line, name)
-            frame.hands.append(Hand(hand_id, HandState.TRACKING, (x, y, z), side))
+            frame.hands.append(Hand(hand_id, HandState.TRACKING, position, side))
     if frame is not None:
         yield frame
+
+
+def _row(path: Path, line: int, row: dict) -> tuple[float, str, Vec3 | None] | None:
+    """A row's time, point name and position (None where unknown); None for a blank row."""
+    if not any((v or "").strip() for v in row.values()):
+        return None
+    t, x, y, z = (_number(path, line, row, c) for c in ("t", "x", "y", "z"))
+    if not math.isfinite(t):
+        raise UserError(f"{path}:{line}: t must be a finite number of seconds, got {row['t']!r}")
+    position = (x, y, z) if all(math.isfinite(c) for c in (x, y, z)) else None
+    return t, (row["hand"] or "").strip().lower(), position
 
 
 def _number(path: Path, line: int, row: dict, column: str) -> float:
