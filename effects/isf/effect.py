@@ -127,18 +127,24 @@ class Isf(Effect):
             on = self.toggles.get(key, (0.0, False))[1]
             self.toggles[key] = (-1.0, not on)
 
-    def _value(self, name: str, kind: str, source: str, now: float) -> Any:
+    def _point(self, name: str, source: str) -> tuple[float, float]:
+        """A point2D input: the hand's or the last gesture's place, in MIN..MAX when the shader gives
+        them, else in the render's pixels (far away while nothing is there)."""
         w, h = self.stage.size
+        where = self.last.get("gesture", (0, None))[1] if source == "gesture" else self.hands.get(source)
+        item = self.shader.input(name)
+        if isinstance(item.maximum, list) and len(item.maximum) == 2:  # a point in MIN..MAX, e.g. 0..1
+            lo = item.minimum if isinstance(item.minimum, list) and len(item.minimum) == 2 else (0.0, 0.0)
+            if where is None:
+                return self.values.get(name, item.default)  # an unseen hand leaves it where it was
+            return tuple(a + (b - a) * t for a, b, t in zip(lo, item.maximum, (where[0] / w, 1.0 - where[1] / h)))
+        k = self.options.scale  # ISF pixels are the render's, smaller at a lower scale
+        return (FAR, FAR) if where is None else (where[0] * k, (h - where[1]) * k)
+
+    def _value(self, name: str, kind: str, source: str, now: float) -> Any:
         if kind == "point2D":
-            where = self.last.get("gesture", (0, None))[1] if source == "gesture" else self.hands.get(source)
-            item = self.shader.input(name)
-            if isinstance(item.maximum, list) and len(item.maximum) == 2:  # a point in MIN..MAX, e.g. 0..1
-                lo = item.minimum if isinstance(item.minimum, list) and len(item.minimum) == 2 else (0.0, 0.0)
-                if where is None:
-                    return self.values.get(name, item.default)  # an unseen hand leaves it where it was
-                return tuple(a + (b - a) * t for a, b, t in zip(lo, item.maximum, (where[0] / w, 1.0 - where[1] / h)))
-            k = self.options.scale  # ISF pixels are the render's, smaller at a lower scale
-            return (FAR, FAR) if where is None else (where[0] * k, (h - where[1]) * k)
+            return self._point(name, source)
+        w, h = self.stage.size
         if kind in ("bool", "event"):
             return source in self.fired
         if source == "hands":
