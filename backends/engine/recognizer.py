@@ -643,16 +643,21 @@ class _Hand:
         k = self.rec.size(stroke.start)
         end = core.end
         sideways = abs(float(end.p[X] - core.start.p[X]))
-        push = self.turned_forward(core, r.click_end_mm * k)
         return (stroke.direction < 0 and core.travel >= r.click_min_travel_mm * k
                 and core.peak_speed >= r.click_min_peak_speed_mm_s
                 and core.travel >= r.click_dominance * sideways
-                and push.travel >= r.click_min_forward_per_rise * float(end.p[Y] - push.start.p[Y])
+                and self.forward_enough(core, k)
                 and self.ends_forward(core, r.click_end_mm * k) >= r.click_end_dominance
                 and -float(end.p[Z]) >= r.click_min_reach_mm * k
                 and float(end.p[Y]) >= end.shoulder - r.click_max_below_shoulder_mm * k
                 and r.click_min_duration_s <= stroke.duration and core.duration <= r.click_max_duration_s
                 and core.body_speed <= r.steady_body_max_vertical_speed_mm_s)
+
+    def forward_enough(self, core: Stroke, k: float) -> bool:
+        """Forward at least `click_min_forward_per_rise` of the rise, from the push's turn forward.
+        Checked only once the cheaper tests pass: `click_under_way` asks every frame."""
+        push = self.turned_forward(core, self.r.click_end_mm * k)
+        return push.travel >= self.r.click_min_forward_per_rise * float(push.end.p[Y] - push.start.p[Y])
 
     @staticmethod
     def turned_forward(core: Stroke, push_mm: float) -> Stroke:
