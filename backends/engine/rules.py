@@ -248,7 +248,8 @@ class GestureRules(BaseModel):
     body_size_range: tuple[float, float] = Field(
         (0.6, 1.3), description="the smallest and largest performer, relative to `head_above_torso_mm`, "
         "that distance thresholds follow (a skeleton glitch must not shrink them to nothing)")
-    shoulder_below_head_mm: float = Field(250.0, gt=0, description="shoulder line below the head's centre")
+    shoulder_below_head_mm: float = Field(
+        250.0, gt=0, description="shoulder line below the head's centre (for an adult, scaled to the performer's size)")
     rest_below_torso_mm: float = Field(
         320.0, gt=0, description="without a skeleton: a hand hanging at rest is this far below the torso, "
         "so the torso is estimated from the lowest hand over the last `body_window_s`")
