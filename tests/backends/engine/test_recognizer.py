@@ -72,6 +72,13 @@ def test_pushes_out_with_the_hand_brought_back_across_in_between_are_swipes_and_
     assert completed(perform(c.pushes_with_returns(times=3))) == ["swipe_right"] * 3
 
 
+def test_quick_pushes_to_the_side_with_their_returns_below_the_chest_are_swipes_not_a_wave():
+    """MSRC-12's p05 pushes right and swings back across without a pause; 1.4 times faster, push and
+    return follow each other as quickly as a wave's swings. But a wave is waved at the chest or higher:
+    at the belly, the back-and-forth is pushes and their returns, and each push is a swipe."""
+    assert completed(perform(c.pushes_with_returns(times=4, out_s=0.3, hold=0.1, back_s=0.45))) == ["swipe_right"] * 4
+
+
 PUSHED_OUT = 0.3 + 0.6 + 0.4 + 0.5  # when c.push_out's sweep ends
 
 
