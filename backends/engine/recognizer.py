@@ -12,8 +12,9 @@ matched against the rules (rules.py):
   completes `swipe_confirm_s` after it ends (or once a sideways stroke the hand turned straight
   into ends) unless a comparable stroke the other way follows: then the stronger of the two
   (further and faster) is the swipe and the other its wind-up or return, or both are part of a
-  back-and-forth (neither is a swipe); the third of quick alternating strokes is a wave's, never
-  a swipe, but sweeps slower than a wave's swings are swipes each. A reversal of a frame or two
+  back-and-forth (neither is a swipe); the third of quick alternating strokes at a wave's height
+  is a wave's, never a swipe, but sweeps slower than a wave's swings, or lower than a wave, are
+  swipes each. A reversal of a frame or two
   is a tracker's glitch: the strokes either side of it are one. If the hand leaves the view
   meanwhile, the swipe completes, except a swipe down: a hand lost after a stroke down went back
   to rest (a swipe down waits while its hand is unseen).
@@ -484,7 +485,7 @@ class _Hand:
         if pending is not None and (not follows or not (stronger or reversed_)):
             self.confirm(pending)
         place = len(chain) if chain and chain[-1] is stroke else 1
-        # the third of quick alternating strokes is a wave's; a sweep slower than a wave's swing is not
+        # the third of quick alternating strokes at a wave's height is a wave's; a slower or lower sweep is not
         waving = place > 2 and stroke.duration <= self.r.wave_max_stroke_s and self.wave_high(stroke)
         if not waving and self.is_swipe(stroke) and (not follows or stronger):
             self.tr.pending[stroke.axis] = stroke

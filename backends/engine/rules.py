@@ -105,7 +105,7 @@ class GestureRules(BaseModel):
         "when the next starts within this long of the previous one's end")
     oscillation_min_travel_mm: float = Field(
         100.0, gt=0, description="a stroke this long or longer counts in a back-and-forth: the third of "
-        "alternating strokes is never a swipe")
+        "quick alternating strokes at a wave's height is never a swipe")
     oscillation_min_dominance: float = Field(
         1.0, gt=0, description="an oscillation's strokes run mostly along their axis (travel over the "
         "largest travel across it)")
