@@ -78,10 +78,8 @@ class BodyReference:
     def _frame(self, torso: np.ndarray, head: np.ndarray, vy: float) -> BodyFrame:
         """The shoulder line lies `shoulder_below_head_mm` below the head for an adult, scaled to the
         performer's size like every distance threshold (a child's shoulders are nearer its head)."""
-        r = self.rules
-        lo, hi = r.body_size_range
-        size = float(np.clip((head[1] - torso[1]) / r.head_above_torso_mm, lo, hi))
-        return BodyFrame(torso, float(head[1]) - r.shoulder_below_head_mm * size, head, vy)
+        size = self.rules.size(float(head[1] - torso[1]))
+        return BodyFrame(torso, float(head[1]) - self.rules.shoulder_below_head_mm * size, head, vy)
 
     def _vertical_speed(self, t: float, y: float) -> float:
         self._heights.append((t, y))

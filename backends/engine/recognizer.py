@@ -14,10 +14,9 @@ matched against the rules (rules.py):
   (further and faster) is the swipe and the other its wind-up or return, or both are part of a
   back-and-forth (neither is a swipe); the third of quick alternating strokes at a wave's height
   is a wave's, never a swipe, but sweeps slower than a wave's swings, or lower than a wave, are
-  swipes each. A reversal of a frame or two
-  is a tracker's glitch: the strokes either side of it are one. If the hand leaves the view
-  meanwhile, the swipe completes, except a swipe down: a hand lost after a stroke down went back
-  to rest (a swipe down waits while its hand is unseen).
+  swipes each. A reversal of a frame or two is a tracker's glitch: the strokes either side of it
+  are one. If the hand leaves the view meanwhile, the swipe completes, except a swipe down: a hand
+  lost after a stroke down went back to rest (a swipe down waits while its hand is unseen).
 - WAVE: several direction reversals of horizontal swings, from the wrist (4 cm) to the whole arm,
   each quick, reaching the shoulders' height or above (the first may be the arm swinging up
   into the wave from lower), with the other hand elsewhere (hands at the eyes or on the head, or
@@ -192,8 +191,7 @@ class GestureRecognizer:
 
     def size(self, s: Sample) -> float:
         """The performer's size relative to the adult the distance thresholds are stated for."""
-        lo, hi = self.rules.body_size_range
-        return float(np.clip(s.head / self.rules.head_above_torso_mm, lo, hi))
+        return self.rules.size(s.head)
 
     def reset(self) -> None:
         """Forget every hand and the body (a new performance)."""

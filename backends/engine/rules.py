@@ -260,3 +260,9 @@ class GestureRules(BaseModel):
         "than this (starting to walk takes 1-2 m/s^2; hands in a push reach 10-20 m/s^2)")
     body_window_s: float = Field(
         3.0, gt=0, description="without a skeleton: how far back the resting hand is looked for")
+
+    def size(self, head_above_torso_mm: float) -> float:
+        """The performer's size relative to the adult the distance thresholds are stated for, from
+        their head's height above the torso (`head_above_torso_mm`, within `body_size_range`)."""
+        lo, hi = self.body_size_range
+        return min(max(head_above_torso_mm / self.head_above_torso_mm, lo), hi)
