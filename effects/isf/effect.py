@@ -144,7 +144,6 @@ class Isf(Effect):
     def _value(self, name: str, kind: str, source: str, now: float) -> Any:
         if kind == "point2D":
             return self._point(name, source)
-        w, h = self.stage.size
         if kind in ("bool", "event"):
             return source in self.fired
         if source == "hands":
@@ -161,6 +160,7 @@ class Isf(Effect):
             where = self.hands.get(source[:-2])
             if where is None:
                 return self.values.get(name, lo)  # an unseen hand leaves the value where it was
+            w, h = self.stage.size
             t = where[0] / w if source.endswith(".x") else 1.0 - where[1] / h
         elif source.startswith("time."):
             period = float(source[5:])

@@ -68,6 +68,7 @@ class Performance:
     torso: Callable[[float], np.ndarray] = field(default=lambda t: np.array([0.0, 0.0, 2500.0]))
     mirrored: bool = True
     lean: float | Callable[[float], float] = 0.0  # degrees the body leans to the side (or at time t)
+    size: float = 1.0  # the performer's size relative to an adult's: hands and head scaled about the torso
 
     def frames(self, with_body: bool = True, noise_mm: float = 0.0, seed: int = 0):
         """(t, hands, body) per frame; hand positions are world mm (torso + relative pose)."""
@@ -78,12 +79,12 @@ class Performance:
             torso = self.torso(t)
             hands = []
             for side, path in self.hands.items():
-                rel = path(t) * np.array([sign, 1.0, 1.0])
+                rel = self.size * path(t) * np.array([sign, 1.0, 1.0])
                 p = torso + rel + rng.normal(0.0, noise_mm, 3)
                 hands.append(Hand(IDS[side], HandState.TRACKING, tuple(float(c) for c in p), side))
             lean = np.radians(self.lean(t) if callable(self.lean) else self.lean)
             up = np.array([np.sin(lean), np.cos(lean), 0.0])
-            body = {"torso": tuple(torso), "head": tuple(torso + HEAD_ABOVE_TORSO * up)}
+            body = {"torso": tuple(torso), "head": tuple(torso + self.size * HEAD_ABOVE_TORSO * up)}
             yield t, hands, (body if with_body else {})
 
     def write_csv(self, path: Path, with_body: bool = True) -> Path:
