@@ -213,6 +213,8 @@ def subscribe_main(args: argparse.Namespace) -> int:
             frame = backend.update()
             if frame is None:
                 break
+            if frame is False:  # nothing yet: the deadline is checked
+                continue
             frames += 1
             gestures += len(frame.gestures)
             if args.dump and frame.depth is not None and (not dumped or dumped[-1] is not frame.depth):

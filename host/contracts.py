@@ -9,10 +9,10 @@ probe plugins for undeclared attributes. See docs/architecture.md, Contracts.
 """
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, ClassVar, Protocol
+from typing import Any, Callable, ClassVar, Literal, Protocol
 
 from pydantic import BaseModel, ConfigDict
 
@@ -109,8 +109,11 @@ class Backend(Plugin):
     """A gesture provider: the OIGestureTracker contract (thesis Fig. 31) in Python form.
 
     The host calls `init()`, the start methods, then `update()` on its sensor thread until it
-    returns None (the source ended), then `finish()` and `stop()`. Backends that compute from
-    depth read their `source`; others (network, replay) make frames of their own and take
+    returns None (the source ended), then `finish()` and `stop()`. A backend fed by a live input
+    that may be silent (a network publisher not started yet) returns False when nothing came
+    within a fraction of a second, so that the host can keep its time limits and stop requests;
+    code that reads a backend itself takes its frames through `frames_of`. Backends that compute
+    from depth read their `source`; others (network, replay) make frames of their own and take
     `source=None`.
     """
 
@@ -155,7 +158,7 @@ class Backend(Plugin):
     def stop_hand_tracking(self) -> None:
         self.tracking_hands = False
 
-    def update(self) -> Frame | None:
+    def update(self) -> Frame | None | Literal[False]:
         raise NotImplementedError
 
     def finish(self) -> tuple[Gesture, ...]:
@@ -183,6 +186,14 @@ class Backend(Plugin):
 
     def __exit__(self, *exc: object) -> None:
         self.stop()
+
+
+def frames_of(backend: Backend) -> Iterator[Frame]:
+    """A backend's frames until its source ends, past its "nothing yet" (False) answers: for code
+    that reads a backend outside the frame loop and has no limits to check between frames."""
+    while (frame := backend.update()) is not None:
+        if frame is not False:
+            yield frame
 
 
 @dataclass

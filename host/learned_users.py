@@ -10,7 +10,7 @@ built-in recogniser's do. Frames without users go to the single recogniser on ev
 from __future__ import annotations
 
 import dataclasses
-from typing import Any
+from typing import Any, Literal
 
 from host.contracts import Backend
 from host.learned.backend import LearnedBackend
@@ -23,9 +23,9 @@ BODY = ("torso", "head")  # the body points the learned features measure the han
 class _Given:
     """The frame LearnedByUser already read, for LearnedBackend to take as its backend's."""
 
-    frame: Frame | None = None
+    frame: Frame | None | Literal[False] = None
 
-    def update(self) -> Frame | None:
+    def update(self) -> Frame | None | Literal[False]:
         return self.frame
 
 
@@ -42,9 +42,9 @@ class LearnedByUser:
     def __getattr__(self, name: str) -> Any:
         return getattr(self.inner, name)
 
-    def update(self) -> Frame | None:
+    def update(self) -> Frame | None | Literal[False]:
         frame = self.inner.update()
-        if frame is None or not frame.users:
+        if not isinstance(frame, Frame) or not frame.users:
             self._frame.frame = frame
             return self._anyone.update()
         learned: list[Gesture] = []

@@ -105,12 +105,15 @@ class EffectSlot:
 
 @dataclass
 class Limits:
-    """When a show ends by itself: after N sensor frames or S seconds of source time."""
+    """When a show ends by itself: after N sensor frames or S seconds of source time, and with S
+    after S + WALL_GRACE_S seconds of wall time at most (source time lags, or never starts when
+    no frame comes: a network publisher that is not there)."""
 
     frames: int | None = None
     seconds: float | None = None
 
 
+WALL_GRACE_S = 5.0  # source time may lag the wall clock: a paced source starting, a slow backend
 MAX_FAILED_IN_A_ROW = 30  # a second of frames at 30 Hz: the backend is broken, not one frame
 
 
@@ -154,9 +157,13 @@ class Show:
     # -- sensor thread -------------------------------------------------------------------------
     def _sensor(self) -> None:
         first_t: float | None = None
-        deadline = None if self.limits.seconds is None else time.time() + self.limits.seconds + 5.0
+        seconds = self.limits.seconds
+        deadline = None if seconds is None else time.monotonic() + seconds + WALL_GRACE_S
         try:
             while not self._stop.is_set():
+                if deadline is not None and time.monotonic() > deadline:
+                    self._check_any_frame()
+                    break
                 frame = self._next_frame()
                 if frame is False:
                     continue
@@ -172,14 +179,21 @@ class Show:
                 first_t = frame.timestamp if first_t is None else first_t
                 if self.limits.frames is not None and self.metrics.frames >= self.limits.frames:
                     break
-                if self.limits.seconds is not None and (frame.timestamp - first_t >= self.limits.seconds
-                                                        or time.time() > deadline):
+                if seconds is not None and frame.timestamp - first_t >= seconds:
                     break
         except Exception as error:  # the backend failed: report it, end the show cleanly
             self.sensor_error = error
         finally:
             self._sensor_done.set()
             self._wake.set()
+
+    def _check_any_frame(self) -> None:
+        """Out of wall time: a show that got no frame at all ends as a missing camera does, with
+        one line saying what the backend waited for (its input label: where, and what to start)."""
+        if not self.metrics.frames:
+            raise UserError(f"backend {self.backend.name!r}: no frame in {self.limits.seconds + WALL_GRACE_S:g} s "
+                            f"(the time limit, {self.limits.seconds:g} s, plus {WALL_GRACE_S:g} s of grace); "
+                            f"input: {self.metrics.input_label}")
 
     def _await_delivery(self) -> None:
         while not self._delivered.wait(0.1):
@@ -188,9 +202,9 @@ class Show:
         self._delivered.clear()
 
     def _next_frame(self) -> Frame | None | bool:
-        """The backend's next frame; False when it raised on this one. A backend that fails on a
-        frame (an odd depth image) loses that frame and the show goes on; one that fails on
-        `MAX_FAILED_IN_A_ROW` frames in a row, or reports a damaged input (UserError), ends it."""
+        """The backend's next frame; False when none came yet or it raised on this one. A backend
+        that fails on a frame (an odd depth image) loses that frame and the show goes on; one that
+        fails on `MAX_FAILED_IN_A_ROW` frames in a row, or reports a damaged input (UserError), ends it."""
         try:
             frame = self.backend.update()
         except UserError:

@@ -1,7 +1,7 @@
 """A tap on the sensor path: sees every frame a backend makes, before newest-wins can drop one."""
 from __future__ import annotations
 
-from typing import Any, Callable
+from typing import Any, Callable, Literal
 
 from host.contracts import Backend
 from host.model import Frame, Gesture
@@ -23,9 +23,9 @@ class SensorTap:
     def __getattr__(self, name: str) -> Any:
         return getattr(self.inner, name)
 
-    def update(self) -> Frame | None:
+    def update(self) -> Frame | None | Literal[False]:
         frame = self.inner.update()
-        if frame is not None:
+        if isinstance(frame, Frame):
             self._observe(frame)
         return frame
 

@@ -89,7 +89,10 @@ class NetworkBackend(Backend):
         self._stopping = threading.Event()
         self._busy = threading.Lock()
 
-    def update(self) -> Frame | None:
+    def update(self) -> Frame | None | Literal[False]:
+        """The next frame; False after a poll that brought nothing (no publisher yet, or a silent
+        one), so the host keeps its time limits and stop requests; None once stopped, or with
+        end_with_publisher once the publisher said goodbye."""
         with self._busy:
             while not self._stopping.is_set():
                 frame = self._ready()
@@ -97,9 +100,19 @@ class NetworkBackend(Backend):
                     return frame
                 if self.accounting.ended and self.options.end_with_publisher:
                     return self._flush()
-                for msg in self.transport.poll(self._wait_ms()):
+                messages = self.transport.poll(self._wait_ms())
+                if not messages and not self._hands:
+                    return False
+                for msg in messages:
                     self._take(msg)
             return None
+
+    def input_label(self) -> str:
+        """The status line's, HUD's and summary's input: the publisher, or where one is awaited."""
+        accounting = getattr(self, "accounting", None)
+        if accounting is None:
+            return f"{self.options.connect} (not connected yet)"
+        return accounting.waiting() or f"publisher at {accounting.where}"
 
     def _take(self, msg: wire.Message) -> None:
         if isinstance(msg, wire.DepthMsg):

@@ -61,6 +61,15 @@ def published(publisher) -> str:
             f"depth skipped {s['depth_skipped']}  compression {s['compression'] or '-'}x")
 
 
+def loopback(addr: str) -> bool:
+    """Whether tcp://HOST:PORT names this machine only (a host name may be another machine)."""
+    host = urlsplit(addr).hostname or ""
+    try:
+        return host == "localhost" or ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
 def codec_for(codec: str | None, bind: str, transport: str = "zmq") -> str:
     """--codec if given; else raw on loopback (copying an image is ~0.1 ms, compressing it several
     ms that every frame would wait for, to save bandwidth loopback does not lack); else the default."""
@@ -68,14 +77,20 @@ def codec_for(codec: str | None, bind: str, transport: str = "zmq") -> str:
     from backends.network.wire import DEFAULT_CODEC
     if codec is not None:
         return codec
-    if transport == "zmq":
-        host = urlsplit(endpoints(bind)[0]).hostname or ""
-        try:
-            if host == "localhost" or ipaddress.ip_address(host).is_loopback:
-                return "raw"
-        except ValueError:  # a host name: maybe another machine
-            pass
+    if transport == "zmq" and loopback(endpoints(bind)[0]):
+        return "raw"
     return DEFAULT_CODEC
+
+
+def how_to_serve(connect: str, namespace: str | None = None) -> str:
+    """Where and how to start the `issv serve` a subscriber to `connect` (a ROS master URI with
+    `namespace`) would hear: what a technician is told while the show waits for a publisher."""
+    if namespace is not None:
+        return f"on the camera machine: issv serve PROFILE --transport ros --bind {connect} --namespace {namespace}"
+    if loopback(connect):
+        return f"on this machine: issv serve PROFILE --bind {connect}"
+    addr = urlsplit(connect)
+    return f"on {addr.hostname}: issv serve PROFILE --bind tcp://0.0.0.0:{addr.port}"
 
 
 def make_publisher(args: argparse.Namespace, backend: str):

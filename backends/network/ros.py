@@ -28,6 +28,7 @@ from functools import cache
 import numpy as np
 
 from backends.network import wire
+from backends.network.command import how_to_serve
 from backends.network.publisher import HEARTBEAT_S, DepthGate, DepthOptions
 from backends.network.subscriber import Accounting, Notice, stderr_notice
 from host import (DepthFrame, Frame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics, Joint,
@@ -334,7 +335,8 @@ class RosSubscriber:
         node(master if master.startswith("http://") else os.environ.get("ROS_MASTER_URI"))
         m = messages()
         ns = namespace.rstrip("/")
-        self.accounting = Accounting(f"{os.environ['ROS_MASTER_URI']} {ns}/*", notice)
+        master = os.environ["ROS_MASTER_URI"]
+        self.accounting = Accounting(f"{master} {ns}/*", notice, how_to_serve(master, namespace))
         self._inbox: queue.SimpleQueue = queue.SimpleQueue()
         self._intrinsics: Intrinsics | None = None
         big = 1 << 24  # rospy's default 64 KiB read buffer makes large messages late

@@ -21,6 +21,7 @@ import numpy as np
 import zmq
 
 from backends.network import wire
+from backends.network.command import how_to_serve
 from backends.network.publisher import endpoints
 
 SILENCE_S = 2.0
@@ -78,9 +79,10 @@ class StreamStats:
 class Accounting:
     """Sessions, sequence numbers, latency, malformed messages: the same for every transport."""
 
-    def __init__(self, where: str, notice: Notice = stderr_notice) -> None:
+    def __init__(self, where: str, notice: Notice = stderr_notice, start: str = "") -> None:
         self.where = where
         self.notice = notice
+        self.start = start  # the command that starts the publisher awaited (said while none is heard)
         self.streams = {name: StreamStats() for name in wire.STREAMS.values()}
         self.malformed: dict[str, int] = {}
         self.session: int | None = None
@@ -106,6 +108,7 @@ class Accounting:
         if h.session in self._retired:
             self.stale += 1
             return False
+        first = self.session is None
         if h.session != self.session:
             if self.session is not None:
                 self._retired.add(self.session)
@@ -117,7 +120,7 @@ class Accounting:
             self.session = h.session
             self.ended = False
         if self._silent:
-            self.notice(f"{self.where} is sending again")
+            self.notice(f"publisher at {self.where} found; receiving" if first else f"{self.where} is sending again")
             self._silent = False
         self.last_message = now_mono
         if isinstance(msg, wire.StatusMsg):
@@ -136,10 +139,18 @@ class Accounting:
             self.notice(f"{name}: messages lost{why}; totals in the summary at exit")
         return fresh
 
+    def waiting(self) -> str | None:
+        """Until a publisher is heard: where one is awaited and how to start it; then None."""
+        if self.session is not None:
+            return None
+        return f"no publisher at {self.where} yet" + (f" (start one {self.start})" if self.start else "")
+
     def check_silence(self) -> None:
         if not self._silent and not self.ended and time.monotonic() - self.last_message > SILENCE_S:
             self._silent = True
-            self.notice(f"nothing from {self.where} for {SILENCE_S:.0f} s; waiting (reconnection is automatic)")
+            waiting = self.waiting()
+            self.notice(f"{waiting}; the show waits for it" if waiting else
+                        f"nothing from {self.where} for {SILENCE_S:.0f} s; waiting (reconnection is automatic)")
 
     def to_json(self) -> dict:
         return {"where": self.where, "streams": {k: v.to_json() for k, v in self.streams.items()},
@@ -160,7 +171,7 @@ class ZmqSubscriber:
 
     def __init__(self, connect: str, depth: bool = True, notice: Notice = stderr_notice) -> None:
         events_addr, depth_addr = endpoints(connect)
-        self.accounting = Accounting(connect, notice)
+        self.accounting = Accounting(connect, notice, how_to_serve(connect))
         self.ctx = zmq.Context()
         self.events = self._socket(events_addr, conflate=False, max_size=wire.MAX_JSON + wire.HEADER.size)
         self.depth = self._socket(depth_addr, conflate=True, max_size=64 << 20) if depth else None

@@ -6,7 +6,7 @@ learned gestures need nothing from the backend but its hands.
 from __future__ import annotations
 
 import dataclasses
-from typing import Any
+from typing import Any, Literal
 
 from host.contracts import Backend
 from host.learned.recognizer import LearnedRecognizer
@@ -23,10 +23,10 @@ class LearnedBackend:
     def __getattr__(self, name: str) -> Any:
         return getattr(self.inner, name)
 
-    def update(self) -> Frame | None:
+    def update(self) -> Frame | None | Literal[False]:
         frame = self.inner.update()
-        if frame is None:
-            return None
+        if not isinstance(frame, Frame):  # the end (None), or nothing yet (False)
+            return frame
         if frame.depth is not None:
             self.recognizer.stream.flip = 1.0 if frame.depth.mirrored else -1.0
         learned = self.recognizer.update(frame.timestamp if frame.depth is not None else frame.capture_time,

@@ -10,7 +10,7 @@ import sys
 import time
 from typing import Callable, TextIO
 
-from host.contracts import Backend
+from host.contracts import Backend, frames_of
 from host.errors import UserError
 from host.learned.features import postures
 from host.learned.learner import Take, repetitions
@@ -23,7 +23,7 @@ def _frames(backend: Backend, seconds: float, tick: Callable[[float], None], mir
     """The backend's frames for `seconds` of source time; `tick(share done)` as they come;
     `mirrored[0]` follows the depth frames' own flag."""
     out, start = [], None
-    while (frame := backend.update()) is not None:
+    for frame in frames_of(backend):
         if frame.depth is not None:
             mirrored[0] = frame.depth.mirrored
         t = frame.timestamp if frame.depth is not None else frame.capture_time
