@@ -6,15 +6,17 @@ from pathlib import Path
 
 import pytest
 
-from host import GestureState, GestureType, Hand, HandState, Side
+from host import Frame, GestureState, GestureType, Hand, HandState, Side
 from host.assemble import make_backend
 from host.learned.examples import read_take
 from host.learned.learner import learn
 from host.learned.recognizer import LearnedRecognizer
+from host.learned_users import LearnedByUser
 from host.plugins import default_registry
 from host.profile import parse
 from tests.backends.oscin.helpers import collect, replay, write_session
 from tests.host.learned.performer import Performer, circle, punch
+from tests.host.test_loop import QuietBackend
 
 APART_MM = 700.0  # user 1 stands left of the middle, user 2 right
 
@@ -76,3 +78,10 @@ def test_each_user_of_osc_in_gets_its_own_learned_gestures(tmp_path, punch_file)
     for got, want in zip(learned, expected):  # the host sees frames: at 2x some hold two samples
         assert got.timestamp - start == pytest.approx(want.timestamp, abs=0.2)
         assert got.hand_id == 12  # user 1's right hand
+
+
+def test_a_live_backends_nothing_yet_passes_through_to_the_frame_loop():
+    """A network input with no publisher yet answers False: neither a frame nor the end."""
+    backend = LearnedByUser(QuietBackend(1, first=1), [])
+    answers = [backend.update() for _ in range(3)]
+    assert answers[0] is False and isinstance(answers[1], Frame) and answers[2] is False

@@ -1,5 +1,6 @@
 """The frame loop's promises: gestures exactly once and in order, newest frame wins,
-one failing effect is disabled and the others lose nothing, stop() is always called."""
+one failing effect is disabled and the others lose nothing, stop() is always called, and a
+time limit holds in wall time even when no frame ever comes."""
 import signal
 import subprocess
 import sys
@@ -8,6 +9,7 @@ import time
 import numpy as np
 
 from host import Backend, DepthFrame, Effect, Frame, Gesture, GestureState, GestureType, Intrinsics, Stage
+from host.errors import UserError
 from host.loop import MAX_FAILED_IN_A_ROW, EffectSlot, Limits, Show
 
 K = Intrinsics(100, 100, 8, 6)
@@ -132,6 +134,55 @@ def test_frame_limit_stops_the_show_and_calls_stop():
     backend = BurstBackend(10_000)
     _, metrics = run_show(backend, [Recorder()], limits=Limits(frames=25))
     assert metrics.frames == 25 and backend.stopped
+
+
+class QuietBackend(BurstBackend):
+    """A live input (a network publisher): `first` answers of nothing yet (False), then `n` frames,
+    then silence for ever (nobody says the stream ended). Notes whether stop() came mid-update()."""
+
+    def __init__(self, n: int = 0, first: int = 0):
+        super().__init__(n)
+        self.first, self.calls, self.updating, self.stopped_mid_update = first, 0, False, False
+
+    def update(self):
+        self.updating, self.calls = True, self.calls + 1
+        time.sleep(0.002)  # a transport's short poll
+        frame = False if self.calls <= self.first else super().update()
+        self.updating = False
+        return False if frame is None else frame
+
+    def stop(self):
+        self.stopped_mid_update = self.updating
+        super().stop()
+
+
+def test_a_time_limit_ends_a_show_that_never_gets_a_frame_with_one_line_naming_its_input(monkeypatch):
+    monkeypatch.setattr("host.loop.WALL_GRACE_S", 0.0)
+    show, metrics = run_show(QuietBackend(), [Recorder()], limits=Limits(seconds=0.2))
+    assert isinstance(show.sensor_error, UserError) and metrics.frames == 0
+    assert str(show.sensor_error) == ("backend 'burst': no frame in 0.2 s (the time limit, 0.2 s, plus 0 s of grace); "
+                                      "input: its own frames")
+    assert show.backend.calls > 1 and show.backend.stopped and not show.backend.stopped_mid_update
+
+
+def test_a_time_limit_holds_in_wall_time_once_frames_stop_coming(monkeypatch):
+    monkeypatch.setattr("host.loop.WALL_GRACE_S", 0.0)
+    show, metrics = run_show(QuietBackend(5), [Recorder()], limits=Limits(seconds=10.0))  # 5 frames: 0.13 s
+    assert show.sensor_error is None and metrics.frames == 5 and show.backend.stopped
+
+
+def test_frames_that_come_after_a_silence_are_all_shown():
+    recorder = Recorder()
+    show, metrics = run_show(QuietBackend(10, first=20), [recorder], limits=Limits(frames=10), lossless=True)
+    assert show.sensor_error is None and recorder.frames == list(range(1, 11))
+
+
+def test_a_stop_request_ends_a_show_waiting_for_its_first_frame_between_two_updates():
+    backend = QuietBackend()
+    show = Show(backend, [], Stage((64, 48), 60.0, backend.name),
+                status=lambda s: s.request_stop() if backend.calls > 3 else None)
+    show.run()
+    assert show.sensor_error is None and backend.stopped and not backend.stopped_mid_update
 
 
 SAYS_STARTED = """

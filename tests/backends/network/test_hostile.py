@@ -11,7 +11,7 @@ import zmq
 
 from backends.network import wire
 from backends.network.backend import NetworkBackend, NetworkOptions
-from host import DepthFrame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics, Side
+from host import DepthFrame, Gesture, GestureState, GestureType, Hand, HandState, Intrinsics, Side, frames_of
 from tests.backends.network.conftest import free_ports
 
 N = 10_000
@@ -72,7 +72,7 @@ def test_ten_thousand_hostile_messages_are_counted_and_the_show_goes_on(capsys):
             time.sleep(0.2)
             hands = (Hand(3, HandState.TRACKING, (10.0, 20.0, 2000.0), Side.RIGHT),)
             events.send(wire.encode_hands(7, 1, time.time(), 1, 0.5, "remote", hands, False))
-            frame = backend.update()  # all the junk first, then the one good message
+            frame = next(frames_of(backend), None)  # all the junk first, then the one good message
             stats = backend.stats()
     finally:
         ctx.destroy(linger=0)
@@ -103,7 +103,7 @@ def test_a_frame_still_waiting_when_the_publisher_ends_keeps_its_backend_name():
             events.send(wire.encode_hands(7, 1, time.time(), 1, 0.5, "remote", hands, True))
             events.send(wire.encode_status(wire.BYE, 7, 1, {"hands": 1, "gestures": 0, "depth": 0}, "remote", 0,
                                            time.time()))
-            frames = list(iter(backend.update, None))
+            frames = list(frames_of(backend))
     finally:
         ctx.destroy(linger=0)
     assert [(f.hands, f.backend) for f in frames] == [(hands, "remote")]

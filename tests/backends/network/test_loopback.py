@@ -7,6 +7,7 @@ import subprocess
 import sys
 import textwrap
 import time
+from itertools import islice
 
 import numpy as np
 import pytest
@@ -14,6 +15,7 @@ import pytest
 from backends.network.backend import NetworkBackend, NetworkOptions
 from backends.network.command import codec_for
 from backends.network.wire import DEFAULT_CODEC
+from host import frames_of
 from sources.clip import Clip
 from tests.backends.engine.performer import swipe_cut_short
 from tests.backends.network.conftest import (START_S, ROOT, HelperDied, Serve, clip_profile, free_ports,
@@ -32,7 +34,7 @@ def test_frames_arrive_whole_depth_bit_exact(serve, tmp_path, performer_clip):
     clip = Clip(performer_clip)
     truth = {tuple(p) for row in clip.hands for p in row}
     with subscriber(port, end_with_publisher=True, depth_wait_ms=500) as backend:
-        frames = list(iter(backend.update, None))
+        frames = list(frames_of(backend))
         stats = backend.stats()
     assert len(frames) >= 40  # the clip is 132 frames; a late joiner may miss the first few
     with_depth = [f for f in frames if f.depth is not None]
@@ -60,7 +62,7 @@ def test_a_swipe_the_clip_ends_on_arrives_before_the_stream_ends(serve, tmp_path
     server = serve(str(clip_profile(tmp_path, clip, loop=False, backend="openiss")), "--bind",
                    f"tcp://127.0.0.1:{port}", "--stats-json", str(stats_file))
     with subscriber(port, end_with_publisher=True, depth_wait_ms=500) as backend:
-        frames = list(iter(backend.update, None))
+        frames = list(frames_of(backend))
     gestures = [g for f in frames for g in f.gestures]
     assert [g.name for g in gestures if g.state.value == "complete"] == ["swipe_left"]
     depth = Clip(clip).depth
@@ -108,7 +110,7 @@ def test_gestures_arrive_exactly_once_and_in_order_under_a_burst():
     wait_for_line(proc, "bound", "the burst publisher")
     try:
         with subscriber(port, end_with_publisher=True) as backend:
-            got = [g.timestamp for f in iter(backend.update, None) for g in f.gestures]
+            got = [g.timestamp for f in frames_of(backend) for g in f.gestures]
             stats = backend.stats()
     finally:
         proc.wait(timeout=30)
@@ -121,12 +123,12 @@ def test_reconnects_after_the_publisher_restarts_and_says_so_once(serve, tmp_pat
     profile = str(clip_profile(tmp_path, performer_clip, loop=True))
     first = serve(profile, "--bind", f"tcp://127.0.0.1:{port}")
     with subscriber(port) as backend:
-        before = [backend.update() for _ in range(10)]
+        before = list(islice(frames_of(backend), 10))
         first.kill()  # no goodbye: the hard case
         serve(profile, "--bind", f"tcp://127.0.0.1:{port}")
-        after = [backend.update() for _ in range(10)]
+        after = list(islice(frames_of(backend), 10))
         stats = backend.stats()
-    assert all(f is not None for f in before + after)
+    assert len(before) == len(after) == 10
     assert stats["restarts"] == 1
     assert capsys.readouterr().err.count("restarted") == 1
 
@@ -174,7 +176,7 @@ def test_a_serve_that_fails_after_starting_interrupts_a_waiting_subscriber(serve
     began = time.monotonic()
     with pytest.raises(HelperDied, match="gone.npz"):
         with subscriber(port) as backend:
-            backend.update()
+            next(frames_of(backend))
     assert time.monotonic() - began < START_S
 
 

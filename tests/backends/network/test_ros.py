@@ -76,10 +76,11 @@ def test_serve_over_ros_to_the_network_backend(roscore, tmp_path, performer_clip
 SUBSCRIBE_USERS = """
 import json, sys
 from backends.network.backend import NetworkBackend, NetworkOptions
+from host import frames_of
 options = NetworkOptions(transport="ros", connect=sys.argv[1], depth=False, end_with_publisher=True)
 with NetworkBackend(None, options) as backend:
     print("subscribed", file=sys.stderr, flush=True)
-    frames = list(iter(backend.update, None))
+    frames = list(frames_of(backend))
 print(json.dumps([{"backend": f.backend, "users": [u.to_json() for u in f.users],
                    "hands": [[h.user_id, h.extended, h.state.value] for h in f.hands],
                    "gestures": [[g.name, g.user_id] for g in f.gestures]} for f in frames]))

@@ -4,7 +4,7 @@ from __future__ import annotations
 import pytest
 
 from backends.network.backend import NetworkBackend, NetworkOptions
-from host import HandState
+from host import HandState, frames_of
 from tests.backends.network.conftest import free_ports
 from tests.backends.oscin.helpers import body_at, hands_at, replay, write_session
 from tests.effects.osc.helpers import free_port
@@ -30,7 +30,7 @@ def test_users_and_resting_hands_arrive_over_the_wire(serve, tmp_path):
     with NetworkBackend(None, NetworkOptions(connect=f"tcp://127.0.0.1:{port}", end_with_publisher=True,
                                              depth=False)) as backend:
         sender = replay(session, osc_port)
-        got = list(iter(backend.update, None))
+        got = list(frames_of(backend))
     assert sender.wait(60) == 0, sender.stderr.read()
     with_users = [f for f in got if f.users]
     assert len(with_users) >= 30 and got[0].backend == "osc-in"

@@ -3,11 +3,12 @@ wrapper, recordings, OSC."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Literal
 
 import pytest
 
 from backends.truth import TruthBackend
-from host import Frame, Gesture, GestureState, GestureType, Hand, HandState, Side
+from host import Frame, Gesture, GestureState, GestureType, Hand, HandState, Side, frames_of
 from host.errors import ProfileError
 from host.learned.backend import LearnedBackend
 from host.learned.examples import read_take
@@ -54,14 +55,15 @@ def test_a_missing_learned_file_is_a_profile_error_naming_the_key(registry, tmp_
 
 
 class Replay:
-    """A backend stand-in that replays frames of hands (as the network and replay backends do)."""
+    """A backend stand-in that replays frames of hands (as the network and replay backends do),
+    each after a "nothing yet" answer (False), as a live network input gives between frames."""
 
     name = "replay-frames"
 
     def __init__(self, frames: list[Frame]) -> None:
-        self.frames = iter(frames)
+        self.frames = iter([answer for f in frames for answer in (False, f)])
 
-    def update(self) -> Frame | None:
+    def update(self) -> Frame | None | Literal[False]:
         return next(self.frames, None)
 
 
@@ -77,9 +79,7 @@ def test_the_host_adds_learned_gestures_to_any_backends_frames(tmp_path):
         hands = tuple(Hand(h.id, HandState.TRACKING, h.position, h.side) for h in f.hands)
         frames.append(Frame(seq, f.t, None, hands, (), "replay-frames"))  # hands only, no body points
     backend = LearnedBackend(Replay(frames), LearnedRecognizer.from_files([tmp_path / "roll.gesture.json"]))
-    seen = []
-    while (frame := backend.update()) is not None:
-        seen += [g for g in frame.gestures]
+    seen = [g for frame in frames_of(backend) for g in frame.gestures]
     assert [(g.name, g.type, g.state) for g in seen] == [
         ("roll", GestureType.LEARNED, GestureState.IN_PROGRESS), ("roll", GestureType.LEARNED, GestureState.COMPLETE)] * 2
     assert backend.name == "replay-frames"  # everything else is the backend's own
