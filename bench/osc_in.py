@@ -38,6 +38,7 @@ from pathlib import Path
 from backends.oscin.backend import OscInBackend, OscInOptions
 from backends.oscin.decode import midnight, stamp, time_tag
 from bench.common import parse_args, percentiles, report
+from host import frames_of
 from host.osc import Message, encode_bundle
 
 TARGET_MS = 1.0
@@ -84,13 +85,6 @@ def _backend(**options) -> OscInBackend:
     return OscInBackend(None, OscInOptions.model_validate({"port": 0, **options}), warn=lambda text: None)
 
 
-def _collect(backend: OscInBackend) -> list:
-    frames = []
-    while (frame := backend.update()) is not None:
-        frames.append(frame)
-    return frames
-
-
 def _env() -> dict:
     return {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))}
 
@@ -99,7 +93,7 @@ def load(seconds: float) -> dict:
     with _backend(end_after_idle_s=0.5, lost_timeout_s=0.3) as backend:
         sender = subprocess.Popen([sys.executable, "-m", "bench.osc_in", "--send", str(backend.port), str(seconds)],
                                   stdout=subprocess.PIPE, text=True, env=_env(), cwd=ROOT)
-        frames = _collect(backend)
+        frames = list(frames_of(backend))
         sent = int(sender.communicate(timeout=seconds + 30)[0].split()[-1])
     rebuild_ms = [s * 1000 for s in backend.rebuild_s]
     recognise_ms = [s * 1000 for s in backend.recognise_s]
@@ -164,7 +158,7 @@ def parity_one(path: Path, speed: float, wire: str = "osceleton") -> dict:
         sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         sender = _Sender(sock, backend.port, stream, speed)
         sender.start()
-        got = [_as_in_file(g) for f in _collect(backend) for g in f.gestures]
+        got = [_as_in_file(g) for f in frames_of(backend) for g in f.gestures]
         sender.join()
         sock.close()
     return {"stream": path.name, "issv_gestures": len(lines), "osc_in": len(got),

@@ -145,23 +145,24 @@ class OscInBackend(Backend):
         self.recognise_s: list[float] = []
         self._last_t = (0.0, time.monotonic())  # (source time of the newest sample, its arrival)
 
-    def update(self) -> Frame | None:
+    def update(self) -> Frame | None | Literal[False]:
+        """The next frame; False when nothing came within a frame's time and nobody is in view (no
+        bridge sending yet: the host checks its limits and asks again); None once ended idle."""
         o, rx = self.options, self.receiver
-        while True:
-            if self._ended:
+        if self._ended:
+            return None
+        rx.arrived.wait(1.0 / o.fps)
+        rx.arrived.clear()
+        wait = self._last_frame + 1.0 / (2 * o.fps) - time.monotonic()  # never faster than 2 x fps
+        if wait > 0:
+            time.sleep(wait)
+        if self._idle():
+            self._ended = True
+            if not rx.queue and not len(self.users):
                 return None
-            rx.arrived.wait(1.0 / o.fps)
-            rx.arrived.clear()
-            wait = self._last_frame + 1.0 / (2 * o.fps) - time.monotonic()  # never faster than 2 x fps
-            if wait > 0:
-                time.sleep(wait)
-            if self._idle():
-                self._ended = True
-                if not rx.queue and not len(self.users):
-                    return None
-                break  # a last frame: what arrived, and the users still in view LOST
-            if rx.queue or len(self.users):
-                break
+            # else a last frame: what arrived, and the users still in view LOST
+        elif not rx.queue and not len(self.users):
+            return False
         start = time.perf_counter()
         now = time.monotonic()
         gestures: list[Gesture] = []

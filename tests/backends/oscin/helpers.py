@@ -17,7 +17,7 @@ from backends.oscin.backend import OscInBackend, OscInOptions
 from effects.osc.coords import Projector
 from effects.osc.osceleton import OSCeletonScheme
 from host.osc import Message
-from host import Frame, Hand, HandState, Side
+from host import Frame, Hand, HandState, Side, frames_of
 
 FPS = 30.0
 ROOT = Path(__file__).resolve().parents[3]
@@ -75,10 +75,7 @@ def collect(b: OscInBackend, first_within_s: float = 60.0) -> list[Frame]:
     deadline = time.monotonic() + first_within_s
     while receiver.last_arrival is None and time.monotonic() < deadline:
         time.sleep(0.01)
-    frames = []
-    while (frame := b.update()) is not None:
-        frames.append(frame)
-    return frames
+    return list(frames_of(b))
 
 
 def env() -> dict:

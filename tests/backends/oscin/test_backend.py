@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from backends.engine.recognizer import GestureRecognizer
-from host import HandState, Side
+from host import HandState, Side, frames_of
 from tests.backends.oscin.helpers import ROOT, backend, body_at, collect, env, hands_at, replay, write_session
 from tests.effects.osc.helpers import Receiver, hand_at
 
@@ -119,7 +119,7 @@ def test_a_quiet_bridges_frames_are_made_now_not_captured_long_ago():
     with backend(end_after_idle_s=1.2, lost_timeout_s=0.8) as b:
         SimpleUDPClient("127.0.0.1", b.port).send_message("/new_user", 1)
         lags, made = [], []
-        while (frame := b.update()) is not None:
+        for frame in frames_of(b):
             lags.append(time.time() - frame.capture_time)
             made.append(time.monotonic())
     assert made[-1] - made[0] > 0.6 and len(lags) > 10  # the user kept, then LOST, with no message

@@ -60,3 +60,15 @@ def test_issv_record_and_compare_on_osc_in(tmp_path):
     events = [json.loads(line) for line in (out / "gestures.jsonl").read_text().splitlines()]
     assert [(e["backend"], e["name"], e["hand"]) for e in events if e["state"] == "complete"] == [
         ("replay", "swipe_right", 12)]
+
+
+def test_a_show_with_a_time_limit_ends_when_no_bridge_ever_sends(tmp_path):
+    """No sender (a bridge not started): `--seconds 1` still ends, saying which port it listened on."""
+    port = free_port()
+    profile = tmp_path / "quiet.toml"
+    profile.write_text(f'[backend]\nname = "osc-in"\nport = {port}\n[output]\nmode = "headless"\n')
+    show = subprocess.run([sys.executable, "-m", "host", "run", str(profile), "--seconds", "1", "--no-reload"],
+                          cwd=ROOT, env=env(), capture_output=True, text=True, timeout=30)  # liveness: 1 + 5 s
+    assert show.returncode == 1, show.stderr
+    assert show.stderr.strip().splitlines()[-1].startswith(f"backend 'osc-in': no frame in 6 s (the time limit, "
+                                                           f"1 s, plus 5 s of grace); input: osc osceleton :{port},")
