@@ -55,7 +55,8 @@ def host_started(show: Show) -> None:
 def host_stopping(show: Show) -> None:
     """The show is about to stop (its source ended, a limit was reached, or Ctrl-C): the sensor
     thread has ended, the backend is not stopped yet; `show.metrics` holds the final figures and
-    `show.sensor_error` is the backend's failure, if any. Called once per show that started."""
+    `show.sensor_error` is the backend's failure (or a UserError: no frame came within the time
+    limit), if any. Called once per show that started."""
 
 
 @hookspec

@@ -82,7 +82,7 @@ class Accounting:
     def __init__(self, where: str, notice: Notice = stderr_notice, start: str = "") -> None:
         self.where = where
         self.notice = notice
-        self.start = start  # the command that starts the publisher awaited (said while none is heard)
+        self.start = start  # where and how to start the publisher awaited (said while none is heard)
         self.streams = {name: StreamStats() for name in wire.STREAMS.values()}
         self.malformed: dict[str, int] = {}
         self.session: int | None = None

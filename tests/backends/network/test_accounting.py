@@ -4,7 +4,7 @@ from __future__ import annotations
 import time
 
 from backends.network import wire
-from backends.network.subscriber import Accounting
+from backends.network.subscriber import SILENCE_S, Accounting
 
 
 def hands(session: int, seq: int) -> wire.HandsMsg:
@@ -29,3 +29,16 @@ def test_gaps_duplicates_tail_and_restart():
     assert not acc.accept(hands(1, 11))  # a late message of the old run is stale, not a restart back
     assert acc.restarts == 1 and acc.stale == 1
     assert acc.to_json()["streams"]["hands"]["lost"] == 3
+
+
+def test_until_a_publisher_is_heard_it_says_once_where_it_waits_and_what_to_start():
+    notes: list[str] = []
+    acc = Accounting("tcp://cam:1", notes.append, "on cam: issv serve PROFILE --bind tcp://0.0.0.0:1")
+    waiting = "no publisher at tcp://cam:1 yet (start one on cam: issv serve PROFILE --bind tcp://0.0.0.0:1)"
+    assert acc.waiting() == waiting
+    acc.last_message -= SILENCE_S + 1
+    acc.check_silence()
+    acc.check_silence()
+    assert notes == [f"{waiting}; the show waits for it"]
+    acc.accept(hands(1, 1))
+    assert acc.waiting() is None and notes[-1] == "publisher at tcp://cam:1 found; receiving"
