@@ -21,7 +21,7 @@ from backends.oscin.backend import OscInBackend, OscInOptions
 from backends.replay import ReplayBackend
 from effects.osc.osceleton import JOINTS, OSCELETON_TEXT, normalised
 from effects.osc.synapse import DETECTORS, SYNAPSE_TEXT
-from host import HandState, Joint, User
+from host import HandState, Joint, User, frames_of
 from host.recording import Recording
 from tests.backends.network.test_users import duet as duet_session
 from tests.backends.oscin.helpers import env, replay
@@ -306,7 +306,7 @@ def test_the_synapse_preset_feeds_osc_in_which_asks_with_keepalives():
 
     def collect() -> None:
         with backend as b:
-            frames.extend(iter(b.update, None))
+            frames.extend(frames_of(b))
 
     reader = threading.Thread(target=collect, daemon=True)
     reader.start()
