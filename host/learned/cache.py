@@ -1,14 +1,15 @@
 """The classifier of a set of learned gestures, trained once per set rather than at every load.
 
 Training (classifier.py) takes seconds of CPU, and every `issv gestures --learned`, show start and
-`issv track` clip used to pay it again for the same files. The result depends only on the
-repetitions it is trained on (in load order), on classifier.py's code and on numpy, so it is kept:
-in this process (every recogniser and user built from one set shares one classifier) and on disk,
-in the user's cache (learned/ in $ISSV_CACHE_DIR, else in $XDG_CACHE_HOME/issv or ~/.cache/issv),
-one .npz per set named by a hash of exactly those inputs. The gesture files are never touched (their format is
-shared with other machines and tools). A cache entry is only a hint: one that cannot be read, does
-not match or cannot be written means training, never an error. Entries hold arrays only (no
-pickle), so reading one cannot run code; a read entry is the trained classifier bit for bit.
+`issv track` clip paid it again for the same files. The result depends only on the repetitions it
+is trained on (in load order), on classifier.py's code and on numpy, so it is kept: in this process
+(every recogniser and user built from one set shares one classifier) and on disk, in the user's
+cache (learned/ in $ISSV_CACHE_DIR, else in $XDG_CACHE_HOME/issv or ~/.cache/issv), one .npz per
+set named by a hash of exactly those inputs. The gesture files are never touched: their format is
+shared with other machines and tools. An entry is only a hint: one that cannot be read or does not
+match means training, a cache that cannot be written means no cache, never an error. Entries hold
+arrays only (no pickle), so reading one cannot run code; a read entry is the trained classifier bit
+for bit.
 
 Code that changes the classifier at run time (patching classifier.py's functions) must call
 `Classifier.train` itself: the key sees classifier.py's source, not its objects.
@@ -27,7 +28,7 @@ from host.learned import classifier
 from host.learned.classifier import Classifier
 
 FORMAT = b"issv-learned-classifier 1"  # bumped if what an entry holds changes
-KEEP = 64  # entries kept on disk (about 15 KB each for six gestures), the most recently written
+KEEP = 64  # entries kept on disk (about 18 KB each for six gestures), the most recently written
 TRAINED: dict[str, Classifier] = {}  # trained or read in this process, by key
 _ARRAYS = ("mean", "scale", "weights", "bias")
 
@@ -78,8 +79,8 @@ def _read(key: str, classes: int) -> Classifier | None:
 def _train_and_keep(key: str, taught: list[list[np.ndarray]]) -> Classifier:
     """Train, and write the entry (atomically: another process may be reading or writing it too)."""
     trained_now = Classifier.train(taught)
-    folder = cache_dir() / "learned"
     try:
+        folder = cache_dir() / "learned"
         folder.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(dir=folder, suffix=".tmp")
         try:
@@ -90,6 +91,6 @@ def _train_and_keep(key: str, taught: list[list[np.ndarray]]) -> Classifier:
             Path(tmp).unlink(missing_ok=True)
         for old in sorted(folder.glob("*.npz"), key=lambda p: p.stat().st_mtime)[:-KEEP]:
             old.unlink()
-    except OSError as error:
-        logging.getLogger(__name__).debug("learned-gesture classifier not cached in %s: %s", folder, error)
+    except (OSError, RuntimeError) as error:  # RuntimeError: no home folder
+        logging.getLogger(__name__).debug("learned-gesture classifier not cached: %s", error)
     return trained_now
