@@ -262,8 +262,33 @@ def _rows(fig: dict) -> list[list]:
     return rows
 
 
+def measure(data: Path, lopo: bool = True, variations: bool = False) -> dict:
+    """The default rules' figures on every person of the three datasets under `data`; with `lopo`,
+    the held-out figures and each fold's choice; with `variations`, the figures per variation."""
+    recordings = load(data)
+    out = {"default": figures(recordings, run_all(recordings))}
+    if lopo:
+        out["leave_one_person_out"], out["chosen"] = leave_one_person_out(recordings)
+    if variations:
+        from bench.gestures import VARIATIONS
+        out["variations"] = {name: figures(recordings, run_all(varied(recordings, v)))
+                             for name, v in VARIATIONS.items()}
+    return out
+
+
+def print_tables(out: dict) -> None:
+    """One table per section of `measure`'s figures."""
+    from bench.common import report
+
+    sections = [(section, out[section]) for section in ("default", "leave_one_person_out") if section in out]
+    sections += [(f"as {name}", fig) for name, fig in out.get("variations", {}).items()]
+    for section, fig in sections:
+        report(f"real people: {section.replace('_', ' ')}", out, _rows(fig),
+               ["data", "gesture", "recall", "worst", "per person"], False)
+
+
 def main() -> None:
-    from bench.common import data_set, parse_args, report
+    from bench.common import data_set, parse_args
 
     def extra(p):
         p.add_argument("--no-lopo", action="store_true", help="only the default rules, no leave-one-person-out")
@@ -272,21 +297,11 @@ def main() -> None:
     args = parse_args("Gestures of real people, per person, with leave-one-person-out choices.", extra, data=True)
     if data_set(args, "msrc12-dev", "every row (UTD-MHAD, MSRC-12 and Kinder-Gator people)") is None:
         return
-    recordings = load(args.data)
-    out = {"default": figures(recordings, run_all(recordings))}
-    if not args.no_lopo:
-        out["leave_one_person_out"], out["chosen"] = leave_one_person_out(recordings)
-    if args.variations:
-        from bench.gestures import VARIATIONS
-        out["variations"] = {name: figures(recordings, run_all(varied(recordings, v)))
-                             for name, v in VARIATIONS.items()}
-    sections = [(section, out[section]) for section in ("default", "leave_one_person_out") if section in out]
-    sections += [(f"as {name}", fig) for name, fig in out.get("variations", {}).items()]
-    for section, fig in sections:
-        report(f"real people: {section.replace('_', ' ')}", out, _rows(fig),
-               ["data", "gesture", "recall", "worst", "per person"], args.json)
-        if args.json:
-            return
+    out = measure(args.data, lopo=not args.no_lopo, variations=args.variations)
+    if args.json:
+        print(json.dumps(out))
+    else:
+        print_tables(out)
 
 
 if __name__ == "__main__":
