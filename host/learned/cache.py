@@ -3,13 +3,12 @@
 Training (classifier.py) takes seconds of CPU, and every `issv gestures --learned`, show start and
 `issv track` clip paid it again for the same files. The result depends only on the repetitions it
 is trained on (in load order), on classifier.py's code and on numpy, so it is kept: in this process
-(every recogniser and user built from one set shares one classifier) and on disk, in the user's
-cache (learned/ in $ISSV_CACHE_DIR, else in $XDG_CACHE_HOME/issv or ~/.cache/issv), one .npz per
-set named by a hash of exactly those inputs. The gesture files are never touched: their format is
-shared with other machines and tools. An entry is only a hint: one that cannot be read or does not
-match means training, a cache that cannot be written means no cache, never an error. Entries hold
-arrays only (no pickle), so reading one cannot run code; a read entry is the trained classifier bit
-for bit.
+(every recogniser and user built from one set shares one classifier) and on disk, in learned/ of
+the user's cache (host/user_cache.py), one .npz per set named by a hash of exactly those inputs.
+The gesture files are never touched: their format is shared with other machines and tools. An
+entry is only a hint: one that cannot be read or does not match means training, a cache that
+cannot be written means no cache, never an error. Entries hold arrays only (no pickle), so reading
+one cannot run code; a read entry is the trained classifier bit for bit.
 
 Code that changes the classifier at run time (patching classifier.py's functions) must call
 `Classifier.train` itself: the key sees classifier.py's source, not its objects.
@@ -26,18 +25,12 @@ import numpy as np
 
 from host.learned import classifier
 from host.learned.classifier import Classifier
+from host.user_cache import cache_dir
 
 FORMAT = b"issv-learned-classifier 1"  # bumped if what an entry holds changes
 KEEP = 64  # entries kept on disk (about 18 KB each for six gestures), the most recently written
 TRAINED: dict[str, Classifier] = {}  # trained or read in this process, by key
 _ARRAYS = ("mean", "scale", "weights", "bias")
-
-
-def cache_dir() -> Path:
-    """issv's user cache: $ISSV_CACHE_DIR (tests use it), else the XDG one."""
-    if os.environ.get("ISSV_CACHE_DIR"):
-        return Path(os.environ["ISSV_CACHE_DIR"])
-    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "issv"
 
 
 def trained(taught: list[list[np.ndarray]]) -> Classifier:
