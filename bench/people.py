@@ -26,7 +26,7 @@ from __future__ import annotations
 import glob
 import json
 import re
-from collections import defaultdict
+from collections import Counter, defaultdict
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -305,6 +305,12 @@ def print_tables(out: dict) -> None:
     for section, fig in sections:
         report(f"real people: {section.replace('_', ' ')}", out, _rows(fig),
                ["data", "gesture", "recall", "worst", "per person"], False)
+    if "chosen" in out:
+        folds = list(out["chosen"].values())
+        for name in CHOICES:
+            picked = Counter(fold[name] for fold in folds)
+            print(f"leave one person out chose {name}: " + ", ".join(
+                f"{value} in {n} of {len(folds)} folds" for value, n in picked.most_common()))
 
 
 def main() -> None:
