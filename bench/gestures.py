@@ -372,6 +372,31 @@ def rows_of(section: str, gestures: dict) -> list[list]:
     return rows
 
 
+def _table(figures: dict) -> list[list]:
+    """The rows of the printed table: real, synthetic per performer, then each variation."""
+    rows = rows_of("real csv", figures["real_trajectories"]["gestures"])
+    rows.append(["real csv", "false fires", _fmt(figures["real_trajectories"]["false_fire_rate"]),
+                 "", "", "", ""])
+    if "real_clips" in figures:
+        rows += rows_of("real depth", figures["real_clips"]["gestures"])
+        rows.append(["real depth", "false fires", _fmt(figures["real_clips"]["false_fire_rate"]), "", "", "", ""])
+    for kind, gestures in figures["synthetic"]["overall"].items():
+        rows += rows_of(SECTION[kind], gestures)
+    for performer, kinds in figures["synthetic"]["performers"].items():
+        for kind, gestures in kinds.items():
+            tp, fp, fn = (sum(f[k] for f in gestures.values()) for k in ("tp", "fp", "fn"))
+            rows.append([SECTION[kind], performer, "", _fmt(tp / (tp + fn) if tp + fn else None), "",
+                         f"{tp}/{fp}/{fn}", ""])
+    for kind, section in (("csv", "varied_trajectories"), ("depth", "varied_clips")):
+        for name, fig in figures.get(section, {}).items():
+            tp, fp, fn = (sum(f[k] for f in fig["gestures"].values()) for k in ("tp", "fp", "fn"))
+            recalls = " ".join(f"{g} {_fmt(f['recall'])}" for g, f in fig["gestures"].items()
+                               if f["recall"] is not None)
+            rows.append([f"{kind} {name}", f"false fires {_fmt(fig['false_fire_rate'])}", "",
+                         _fmt(tp / (tp + fn) if tp + fn else None), recalls, f"{tp}/{fp}/{fn}", ""])
+    return rows
+
+
 def main() -> None:
     def extra(p):
         p.add_argument("--backend", default="openiss")
@@ -395,26 +420,7 @@ def main() -> None:
     if not args.quick:
         figures["varied_clips"] = {name: real_clips(args.backend, args.clips, v)
                                    for name, v in DEPTH_VARIATIONS.items()}
-    rows = rows_of("real csv", figures["real_trajectories"]["gestures"])
-    rows.append(["real csv", "false fires", _fmt(figures["real_trajectories"]["false_fire_rate"]),
-                 "", "", "", ""])
-    if "real_clips" in figures:
-        rows += rows_of("real depth", figures["real_clips"]["gestures"])
-        rows.append(["real depth", "false fires", _fmt(figures["real_clips"]["false_fire_rate"]), "", "", "", ""])
-    for kind, gestures in figures["synthetic"]["overall"].items():
-        rows += rows_of(SECTION[kind], gestures)
-    for performer, kinds in figures["synthetic"]["performers"].items():
-        for kind, gestures in kinds.items():
-            tp, fp, fn = (sum(f[k] for f in gestures.values()) for k in ("tp", "fp", "fn"))
-            rows.append([SECTION[kind], performer, "", _fmt(tp / (tp + fn) if tp + fn else None), "",
-                         f"{tp}/{fp}/{fn}", ""])
-    for kind, section in (("csv", "varied_trajectories"), ("depth", "varied_clips")):
-        for name, fig in figures.get(section, {}).items():
-            tp, fp, fn = (sum(f[k] for f in fig["gestures"].values()) for k in ("tp", "fp", "fn"))
-            recalls = " ".join(f"{g} {_fmt(f['recall'])}" for g, f in fig["gestures"].items()
-                               if f["recall"] is not None)
-            rows.append([f"{kind} {name}", f"false fires {_fmt(fig['false_fire_rate'])}", "",
-                         _fmt(tp / (tp + fn) if tp + fn else None), recalls, f"{tp}/{fp}/{fn}", ""])
+    rows = _table(figures)
     if args.backend == "openiss" and data_set(args, "msrc12-dev", "(d), the people of all three datasets"):
         figures["people"] = people.measure(args.data)
     report(f"gestures, backend {args.backend} (latency: COMPLETE - end of motion, s)", figures, rows,

@@ -26,7 +26,7 @@ from __future__ import annotations
 import glob
 import json
 import re
-from collections import defaultdict
+from collections import Counter, defaultdict
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -114,29 +114,34 @@ class Outcome:
 
 
 def outcome(r: Recording, events) -> Outcome:
+    """How `events` score on `r`, as score.py scores its dataset."""
     done = _complete(events)
-    names = {n for _, n in done}
-    o = Outcome()
     if r.dataset == "msrc":
-        windows = [(tau - BEFORE_S, tau + AFTER_S) for tau in r.tags]
-        for tau, (a, b) in zip(r.tags, windows):
-            if r.label:
-                inwin = [t for t, n in done if n == r.label and a <= t <= b]
-                o.hits.append(bool(inwin))
-                if inwin:
-                    o.delays.append(min(inwin) - tau)
-                    early = [t for t, n, s in events if n == r.label and s == "in_progress" and a <= t <= b]
-                    if early:
-                        o.early.append(min(early) - tau)
-            else:
-                o.negatives.append(any(a <= t <= b for t, _ in done))
-        if r.label:
-            o.extra = sum(1 for t, n in done if n == r.label and not any(a <= t <= b for a, b in windows))
-    elif r.label:
-        o.hits.append(r.label in names)
-        o.confused = bool(names - {r.label})
-    elif r.negative:
-        o.negatives.append(bool(names))
+        return _stream_outcome(r, events, done)
+    names = {n for _, n in done}
+    if r.label:
+        return Outcome(hits=[r.label in names], confused=bool(names - {r.label}))
+    return Outcome(negatives=[bool(names)] if r.negative else [])
+
+
+def _stream_outcome(r: Recording, events, done: list[tuple[float, str]]) -> Outcome:
+    """An MSRC-12 stream: per action point, the expected gesture within its window (and how soon),
+    or for a negative gesture any gesture there."""
+    o = Outcome()
+    windows = [(tau - BEFORE_S, tau + AFTER_S) for tau in r.tags]
+    for tau, (a, b) in zip(r.tags, windows):
+        if not r.label:
+            o.negatives.append(any(a <= t <= b for t, _ in done))
+            continue
+        inwin = [t for t, n in done if n == r.label and a <= t <= b]
+        o.hits.append(bool(inwin))
+        if inwin:
+            o.delays.append(min(inwin) - tau)
+            early = [t for t, n, s in events if n == r.label and s == "in_progress" and a <= t <= b]
+            if early:
+                o.early.append(min(early) - tau)
+    if r.label:
+        o.extra = sum(1 for t, n in done if n == r.label and not any(a <= t <= b for a, b in windows))
     return o
 
 
@@ -177,38 +182,53 @@ def figures(recordings: list[Recording], outcomes: list[Outcome]) -> dict:
     out = {}
     for ds in ("utd", "msrc", "kinder"):
         pairs = [(r, o) for r, o in zip(recordings, outcomes) if r.dataset == ds]
-        if not pairs:
-            continue
-        groups = sorted({r.group for r, _ in pairs}) if ds == "kinder" else ["all"]
-        recall, by_person, ffr = {}, defaultdict(dict), {}
-        for grp in groups:
-            mine = [(r, o) for r, o in pairs if r.group == grp]
-            for g in sorted({r.label for r, _ in mine if r.label}):
-                key = g if grp == "all" else f"{g}/{grp}"
-                hits = [(r.person, h) for r, o in mine if r.label == g for h in o.hits]
-                recall[key] = _rate(h for _, h in hits)
-                for p in sorted({p for p, _ in hits}):
-                    by_person[key][p] = _rate(h for q, h in hits if q == p)
-            ffr[grp] = _rate(n for _, o in mine for n in o.negatives)
-        person_all = defaultdict(list)
-        for r, o in pairs:
-            person_all[r.person] += o.hits
-        fig = {"recall": recall, "worst_person_recall": {g: min(ps.values()) for g, ps in by_person.items()},
-               "by_person": dict(by_person),
-               "false_fire_rate": ffr if ds == "kinder" else ffr["all"],
-               "worst_person_overall": min(_rate(h) for h in person_all.values() if h)}
-        if ds == "utd":
-            fig["confusion_rate"] = _rate(o.confused for r, o in pairs if r.label)
-        if ds == "msrc":
-            fig["extra"] = {g: sum(o.extra for r, o in pairs if r.label == g) for g in STREAM_POSITIVE.values()}
-            fig["delay_s"] = {}
-            for g in STREAM_POSITIVE.values():
-                d = [x for r, o in pairs if r.label == g for x in o.delays]
-                e = [x for r, o in pairs if r.label == g for x in o.early]
-                fig["delay_s"][g] = ({"p50": float(np.median(d)), "p90": float(np.percentile(d, 90)),
-                                      "in_progress_p50": float(np.median(e)) if e else None} if d else None)
-        out[ds] = fig
+        if pairs:
+            out[ds] = _dataset_figures(ds, pairs)
     return out
+
+
+def _dataset_figures(ds: str, pairs: list[tuple[Recording, Outcome]]) -> dict:
+    recall, by_person, ffr = _by_group(pairs, sorted({r.group for r, _ in pairs}) if ds == "kinder" else ["all"])
+    person_all = defaultdict(list)
+    for r, o in pairs:
+        person_all[r.person] += o.hits
+    fig = {"recall": recall, "worst_person_recall": {g: min(ps.values()) for g, ps in by_person.items()},
+           "by_person": by_person,
+           "false_fire_rate": ffr if ds == "kinder" else ffr["all"],
+           "worst_person_overall": min(_rate(h) for h in person_all.values() if h)}
+    if ds == "utd":
+        fig["confusion_rate"] = _rate(o.confused for r, o in pairs if r.label)
+    if ds == "msrc":
+        fig["extra"] = {g: sum(o.extra for r, o in pairs if r.label == g) for g in STREAM_POSITIVE.values()}
+        fig["delay_s"] = {g: _delays(pairs, g) for g in STREAM_POSITIVE.values()}
+    return fig
+
+
+def _by_group(pairs: list[tuple[Recording, Outcome]], groups: list[str]) -> tuple[dict, dict, dict]:
+    """Recall and recall per person of each gesture in each group (Kinder-Gator's adults and
+    children: "wave/adults"), and each group's false-fire rate."""
+    recall, by_person, ffr = {}, {}, {}
+    for grp in groups:
+        mine = [(r, o) for r, o in pairs if r.group == grp]
+        for g in sorted({r.label for r, _ in mine if r.label}):
+            key = g if grp == "all" else f"{g}/{grp}"
+            recall[key], by_person[key] = _recall(mine, g)
+        ffr[grp] = _rate(n for _, o in mine for n in o.negatives)
+    return recall, by_person, ffr
+
+
+def _recall(pairs: list[tuple[Recording, Outcome]], gesture: str) -> tuple[float | None, dict[str, float | None]]:
+    """Recall of `gesture` over its instances, and per person."""
+    hits = [(r.person, h) for r, o in pairs if r.label == gesture for h in o.hits]
+    return _rate(h for _, h in hits), {p: _rate(h for q, h in hits if q == p) for p in sorted({p for p, _ in hits})}
+
+
+def _delays(pairs: list[tuple[Recording, Outcome]], gesture: str) -> dict | None:
+    """COMPLETE (and first IN_PROGRESS) after the action point, over the hits of `gesture`."""
+    d = [x for r, o in pairs if r.label == gesture for x in o.delays]
+    e = [x for r, o in pairs if r.label == gesture for x in o.early]
+    return ({"p50": float(np.median(d)), "p90": float(np.percentile(d, 90)),
+             "in_progress_p50": float(np.median(e)) if e else None} if d else None)
 
 
 #: The thresholds chosen by comparing candidate values on these recordings (the others follow from
@@ -285,6 +305,12 @@ def print_tables(out: dict) -> None:
     for section, fig in sections:
         report(f"real people: {section.replace('_', ' ')}", out, _rows(fig),
                ["data", "gesture", "recall", "worst", "per person"], False)
+    if "chosen" in out:
+        folds = list(out["chosen"].values())
+        for name in CHOICES:
+            picked = Counter(fold[name] for fold in folds)
+            print(f"leave one person out chose {name}: " + ", ".join(
+                f"{value} in {n} of {len(folds)} folds" for value, n in picked.most_common()))
 
 
 def main() -> None:

@@ -13,6 +13,8 @@ import os
 import tempfile
 from pathlib import Path
 
+from host.user_cache import cache_dir
+
 LIB = "libOpenNI2.so"
 LIB_DIRS = ["/usr/lib/x86_64-linux-gnu", "/usr/lib/aarch64-linux-gnu", "/usr/lib", "/usr/local/lib"]
 INSTALL = "on Debian/Ubuntu: apt-get install libopenni2-0 (or set OPENNI2_REDIST to an OpenNI2 Redist folder)"
@@ -33,7 +35,7 @@ def bindings_dir(library: Path) -> Path:
     `OpenNI2/Drivers` is the runtime's own (where OpenNI2 looks for its device drivers)."""
     if library.name == LIB:
         return library.parent
-    cache = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "issv" / "openni2"
+    cache = cache_dir() / "openni2"
     try:
         cache.mkdir(parents=True, exist_ok=True)
     except OSError:

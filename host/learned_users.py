@@ -59,8 +59,8 @@ class LearnedByUser:
         mirrored = frame.depth.mirrored if frame.depth is not None else True
         recognizer = self._recognizers.get(user.id)
         if recognizer is None:
-            recognizer = self._recognizers[user.id] = LearnedRecognizer(  # one classifier, trained once
-                self._gestures, mirrored, classifier=self._anyone.recognizer.matcher.classifier)
+            recognizer = self._recognizers[user.id] = LearnedRecognizer(  # the set's classifier: cache.py
+                self._gestures, mirrored)
         t = frame.timestamp if frame.depth is not None else frame.capture_time
         hands = [h for h in frame.hands if h.user_id == user.id]
         body = {name: user.joints[name].position for name in BODY if name in user.joints}

@@ -125,21 +125,28 @@ def _parse_text(path: Path) -> Described:
         if match:
             values[re.sub(r"[\s_-]+", " ", match[1].lower()).strip()] = match[2]
     numbers = {k: [float(n) for n in re.findall(_NUMBER, v)] for k, v in values.items()}
-    unit = None
+    fps = next((numbers[k][0] for k in ("fps", "frame rate") if numbers.get(k)), None)
+    return Described(_text_unit(values, numbers), _text_intrinsics(numbers), fps, (path,))
+
+
+def _text_unit(values: dict[str, str], numbers: dict[str, list[float]]) -> float | None:
+    """The depth unit in mm, from a number and its unit ("depth unit: 0.1 mm", "depth scale mm = 1")."""
     for key in ("depth unit", "depth unit mm", "depth scale mm"):
         if numbers.get(key):
             suffix = re.sub(_NUMBER, "", values[key]).strip().lower()
-            unit = numbers[key][0] * _UNITS_MM.get(suffix, 1.0)
-            break
+            return numbers[key][0] * _UNITS_MM.get(suffix, 1.0)
+    return None
+
+
+def _text_intrinsics(numbers: dict[str, list[float]]) -> tuple[float, float, float, float] | None:
+    """(fx, fy, cx, cy) from fx/fy/cx/cy lines, or "focal length" and "principal point" pairs."""
     f = numbers.get("focal length") or []
     pp = numbers.get("principal point") or []
     fx = (numbers.get("fx") or f[:1] or [None])[0]
     fy = (numbers.get("fy") or f[1:2] or f[:1] or [None])[0]
     cx = (numbers.get("cx") or pp[:1] or [None])[0]
     cy = (numbers.get("cy") or pp[1:2] or [None])[0]
-    intrinsics = (fx, fy, cx, cy) if None not in (fx, fy, cx, cy) else None
-    fps = next((numbers[k][0] for k in ("fps", "frame rate") if numbers.get(k)), None)
-    return Described(unit, intrinsics, fps, (path,))
+    return (fx, fy, cx, cy) if None not in (fx, fy, cx, cy) else None
 
 
 def _parse_json(path: Path) -> Described:

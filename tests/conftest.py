@@ -31,6 +31,14 @@ def real_data(*parts: str) -> Path:
     return path
 
 
+@pytest.fixture(scope="session", autouse=True)
+def own_cache(tmp_path_factory: pytest.TempPathFactory):
+    """The tests' own cache folder (and their commands'): none writes the user's (host/learned/cache.py)."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("ISSV_CACHE_DIR", str(tmp_path_factory.mktemp("cache")))
+        yield
+
+
 @pytest.fixture
 def issv_data() -> Path:
     """The real data folder ($ISSV_DATA); the test is skipped without it."""

@@ -203,32 +203,43 @@ def _input(path: Path, entry: Any) -> Input:
 def default_value(item: Input, given: Any) -> Any:
     """The DEFAULT as its type; without one the IDENTITY, else the middle of MIN..MAX (0..1 when
     not given: a float without a default is a slider, and 0 often hides everything)."""
-    value = given if given is not None else item.identity
-    kind = item.type
+    as_type = _AS_TYPE.get(item.type)
+    if as_type is None:
+        return None  # images: bound at render time
     try:
-        if kind == "float":
-            if value is None:
-                lo = item.minimum if isinstance(item.minimum, (int, float)) else 0.0
-                hi = item.maximum if isinstance(item.maximum, (int, float)) else 1.0
-                value = (lo + hi) / 2
-            return float(value)
-        if kind == "long":
-            if value is None:
-                value = item.values[0] if item.values else item.minimum or 0
-            return int(value)
-        if kind in ("bool", "event"):
-            return bool(value)
-        if kind == "color":
-            rgba = [float(v) for v in (value if isinstance(value, list) else [0, 0, 0, 1])][:4]
-            return tuple(rgba + [1.0] * (4 - len(rgba)))
-        if kind == "point2D":
-            if value is None and isinstance(item.minimum, list) and isinstance(item.maximum, list):
-                value = [(a + b) / 2 for a, b in zip(item.minimum, item.maximum)]
-            xy = [float(v) for v in (value if isinstance(value, list) else [0, 0])][:2]
-            return tuple(xy + [0.0] * (2 - len(xy)))
+        return as_type(item, given if given is not None else item.identity)
     except (TypeError, ValueError):
-        raise IsfError(f"input {item.name!r} ({kind}): DEFAULT {given!r} is not a {kind}") from None
-    return None  # images: bound at render time
+        raise IsfError(f"input {item.name!r} ({item.type}): DEFAULT {given!r} is not a {item.type}") from None
+
+
+def _float(item: Input, value: Any) -> float:
+    if value is None:
+        lo = item.minimum if isinstance(item.minimum, (int, float)) else 0.0
+        hi = item.maximum if isinstance(item.maximum, (int, float)) else 1.0
+        value = (lo + hi) / 2
+    return float(value)
+
+
+def _long(item: Input, value: Any) -> int:
+    if value is None:
+        value = item.values[0] if item.values else item.minimum or 0
+    return int(value)
+
+
+def _color(item: Input, value: Any) -> tuple[float, ...]:
+    rgba = [float(v) for v in (value if isinstance(value, list) else [0, 0, 0, 1])][:4]
+    return tuple(rgba + [1.0] * (4 - len(rgba)))
+
+
+def _point(item: Input, value: Any) -> tuple[float, ...]:
+    if value is None and isinstance(item.minimum, list) and isinstance(item.maximum, list):
+        value = [(a + b) / 2 for a, b in zip(item.minimum, item.maximum)]
+    xy = [float(v) for v in (value if isinstance(value, list) else [0, 0])][:2]
+    return tuple(xy + [0.0] * (2 - len(xy)))
+
+
+_AS_TYPE = {"float": _float, "long": _long, "bool": lambda item, value: bool(value),
+            "event": lambda item, value: bool(value), "color": _color, "point2D": _point}
 
 
 _OPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,

@@ -9,8 +9,9 @@ the shape of the last WINDOW postures (where the hands were, where they are rela
 other, how they moved). It is trained when the gestures are loaded, from the repetitions stored in
 their files: the last (1 - EARLY) of each repetition is that gesture, its beginning, the rest
 pose before it and the rest after it are "none", and every other loaded gesture's repetitions are
-negatives. Nothing is stored: files stay as `issv learn` wrote them, and a set of gestures loaded
-together is told apart by what it contains.
+negatives. The files stay as `issv learn` wrote them, and a set of gestures loaded together is
+told apart by what it contains; a set's classifier is trained once and kept in the user's cache
+(cache.py), as training takes seconds and a set is loaded again and again.
 
 It must also say "none" to motions it never saw. A linear classifier cannot: hands on the head
 (MSRC-12 had_enough) lie beyond hands at the eyes (goggles) along the very direction that tells
@@ -24,7 +25,7 @@ each direction: a gesture is a region around where it was taught, not a half-spa
 
 Softmax regression (multinomial logistic regression) on the standardised descriptors and their
 squares, fitted with a few hundred Adam steps in numpy (bench/learned.py prints how long six
-gestures take).
+gestures take to train).
 """
 from __future__ import annotations
 

@@ -43,6 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from host.learned.cache import trained
 from host.learned.classifier import Classifier, Describer
 from host.learned.features import RATE_HZ, resampled
 from host.learned.gesture_file import LearnedGesture
@@ -81,21 +82,25 @@ def motion(postures: np.ndarray) -> np.ndarray:
     return np.concatenate([postures] + out, axis=1)
 
 
+def taught_repetitions(gestures: list[LearnedGesture]) -> list[list[np.ndarray]]:
+    """Each gesture's repetitions at RATE_HZ: the templates, and what the classifier is trained on."""
+    return [[resampled(r.postures, g.rate_hz) for r in g.repetitions] for g in gestures]
+
+
 class Matcher:
     """Fed one posture at a time (RATE_HZ); says which learned gestures it completes."""
 
     def __init__(self, gestures: list[LearnedGesture], thresholds: list[float] | None = None,
                  classify: bool = True, classifier: Classifier | None = None) -> None:
         """`classify=False`: templates alone (the learner's consistency check, which needs no veto);
-        `classifier`: one already trained on these gestures (each user's matcher shares one)."""
+        `classifier`: one already trained on these gestures (else the one of this set, cache.py)."""
         self.gestures = gestures
         self.thresholds = np.array(thresholds if thresholds is not None else [g.threshold for g in gestures], float)
         # a threshold loosened in a profile does not loosen "close": look-alikes still need the classifier
         self.close = CLOSE_RATIO * np.minimum(self.thresholds, [g.threshold for g in gestures])
-        prefixes, owner, typical, taught = [], [], [], []
-        for gi, g in enumerate(gestures):
-            reps = [resampled(r.postures, g.rate_hz) for r in g.repetitions]
-            taught.append(reps)
+        prefixes, owner, typical = [], [], []
+        taught = taught_repetitions(gestures)
+        for gi, (g, reps) in enumerate(zip(gestures, taught)):
             typical.append(float(np.median([len(r) for r in reps])))
             for r in reps:
                 prefixes.append(motion(r)[:max(2, int(round(g.fires_at * len(r))))])
@@ -121,7 +126,7 @@ class Matcher:
         self.done = np.full(len(gestures), -(10 ** 9))  # the tick each gesture last completed
         self.announced = np.zeros(len(gestures), bool)  # IN_PROGRESS said for the current attempt
         self._rows = np.arange(m)
-        self.classifier = classifier or (Classifier.train(taught) if classify and gestures else None)
+        self.classifier = classifier or (trained(taught) if classify and gestures else None)
         self.describer = Describer()
         self.running = np.zeros(len(gestures))  # postures templates and classifier have agreed
 
