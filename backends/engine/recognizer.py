@@ -36,7 +36,8 @@ clap) cancels them.
 Each gesture is reported IN_PROGRESS (at most once per attempt) when it is recognisably under
 way (a swipe: once its stroke has ended and waits for confirmation; a wave: one reversal before
 it completes; a click: while the hand moves forward fast enough; a raise: half way through the
-hold) and COMPLETE once; after a COMPLETE the hand has a refractory period.
+hold) and COMPLETE once; after a COMPLETE the hand has a refractory period (its return is no
+gesture), which a raise ends after a swipe up: the hand held up where the swipe took it.
 """
 from __future__ import annotations
 
@@ -110,6 +111,7 @@ class _HandTrack:
     last_seen: float = 0.0
     samples: deque = field(default_factory=deque)
     refractory_until: float = float("-inf")
+    last_complete: str | None = None  # the hand's last COMPLETE gesture
     pending: dict[int, Stroke] = field(default_factory=dict)  # per axis: a swipe waiting for confirmation
     chains: dict[int, list[Stroke]] = field(default_factory=lambda: {X: [], Y: [], Z: []})  # alternating strokes
     waving: list[Stroke] = field(default_factory=list)  # alternating side-to-side strokes of a wave
@@ -262,9 +264,12 @@ class _Hand:
         if native is None:
             return False
         if state is GestureState.COMPLETE:
-            if self.t < self.tr.refractory_until:
+            # the refractory period swallows a stroke's return, not the hand held up where a swipe up took it
+            held_up = name == "hand_raise" and self.tr.last_complete == "swipe_up"
+            if self.t < self.tr.refractory_until and not held_up:
                 return False
             self.tr.refractory_until = self.t + self.r.refractory_s
+            self.tr.last_complete = name
             self.tr.pending.clear()
         self.events.append(Gesture(native, state, tuple(float(c) for c in at.world), self.hand.id,
                                    self.hand.side, float(np.clip(confidence, 0.0, 1.0)), self.t))

@@ -129,6 +129,29 @@ def swipe_up(travel: float = 550.0, duration: float = 0.4) -> Performance:
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 
 
+def swept_up_overhead(top: float = 330.0, up_s: float = 0.4, aside: float = 400.0, aside_s: float = 0.6,
+                      hold: float = 0.1) -> Performance:
+    """The right hand, up in front of the belly, sweeps straight up to `top` mm above the head's
+    centre in `up_s` s and, before it has stopped, on out to the side by `aside` mm in `aside_s` s
+    (an arm lifted and opened in one motion), held there `hold` s and lowered to rest in 0.8 s."""
+    low = np.array([250.0, -50.0, -400.0])
+    start = 0.3 + 0.6 + 0.3
+    opened = start + 0.6 * up_s + aside_s
+    top_place = low + np.array([aside, HEAD_ABOVE_TORSO + top - low[1], 0.0])
+    rise = rest(Side.RIGHT).hold(0.3).then(0.6, tuple(low))
+    lower = Path3([(opened, tuple(top_place))]).hold(hold).then(0.8, REST[Side.RIGHT])
+
+    def right(t: float) -> np.ndarray:
+        if t <= start:
+            return rise(t)
+        if t >= opened:
+            return lower(t)
+        up = float(min_jerk(np.array((t - start) / up_s)))
+        out = float(min_jerk(np.array((t - start - 0.6 * up_s) / aside_s)))
+        return low + np.array([aside * out, (top_place[1] - low[1]) * up, 0.0])
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, lower.end + 0.5)
+
+
 def windup_swipe(windup: float = 250.0, start: tuple[float, float, float] = (150.0, 350.0, -400.0),
                  still: float = 0.2, windup_s: float = 0.35, to: float = -250.0) -> Performance:
     """The right hand, raised to `start` and held `still` s, winds up `windup` mm out to the performer's

@@ -273,6 +273,13 @@ def test_a_hand_raised_above_the_head_is_a_hand_raise_once():
     assert completed(perform(c.hand_raise(above_head=-200, hold=1.0))) == []  # at the shoulder
 
 
+def test_a_hand_swept_up_above_the_head_and_held_there_is_a_swipe_up_then_a_hand_raise():
+    """The refractory period after a swipe swallows its return, not the hand held up where it went
+    (MSRC-12 p01 lifts an arm that fast: its raise was lost to the swipe up)."""
+    assert completed(perform(c.swept_up_overhead())) == ["swipe_up", "hand_raise"]
+    assert completed(perform(c.swipe_up())) == ["swipe_up"]  # ending in front of the face: no raise
+
+
 def test_a_hand_put_on_the_head_is_no_hand_raise_nor_swipe():
     """Hands on the head (MSRC-12's "had enough") rest above its centre but touch it."""
     on_head = c.hand_raise(above_head=120, hold=1.5, aside=60, forward=0)
