@@ -13,7 +13,6 @@ from host.contracts import Effect, Stage
 from host.model import Frame, Gesture, GestureState, GestureType, Vec3
 
 
-
 class SimpleOpenNIEffect(Effect):
     """An effect whose hooks are SimpleOpenNI's callbacks. Override the ones the sketch used.
 

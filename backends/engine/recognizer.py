@@ -341,7 +341,6 @@ class _Hand:
         towards_right = (stroke.direction > 0) == self.mirrored
         return "swipe_right" if towards_right else "swipe_left"
 
-
     def swipe_like(self, stroke: Stroke) -> bool:
         """Fast and dominant along its axis, with the hand up from rest and the body steady
         (travel checked apart); judged on the stroke's core."""

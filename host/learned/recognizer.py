@@ -19,7 +19,6 @@ from host.learned.matcher import Matcher
 from host.model import Gesture, GestureState, GestureType, Hand, Side
 
 
-
 class LearnedRecognizer:
     """`update(t, hands, body) -> list[Gesture]` per frame, like a backend's recogniser."""
 

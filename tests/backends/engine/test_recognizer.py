@@ -356,7 +356,6 @@ def test_a_lost_hand_is_forgotten():
     assert completed(perform(performance)) == ["wave"]  # the same motion, tracked throughout
 
 
-
 def test_a_stream_that_starts_again_is_a_new_performance():
     """A looping clip: time jumps back to 0 and the same swipe is reported again, once per pass."""
     recognizer = GestureRecognizer(GestureRules())
@@ -466,7 +465,6 @@ def test_a_push_across_a_tracking_gap_is_a_click(seen):
         hand = Hand(2, HandState.TRACKING, (150.0, 300.0, torso[2] + z), Side.RIGHT)
         events += recognizer.update(t, [hand], body, True)
     assert completed(events) == ["click"]
-
 
 
 def test_a_push_whose_hand_is_unseen_as_it_stops_is_a_click():

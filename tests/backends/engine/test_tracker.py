@@ -223,7 +223,6 @@ def test_a_forearm_across_the_face_does_not_move_the_body(covered):
     assert abs(float(np.median(during) - np.median(before))) < 25
 
 
-
 @pytest.mark.parametrize("lost, period", [("rows", 4), ("columns", 4), ("rows", 2)])
 def test_lines_of_missing_readings_do_not_cut_the_user_apart(wave, lost, period):
     """Every fourth or second row (or column) of the internal grid without readings, as a rescaled or

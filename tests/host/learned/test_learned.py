@@ -76,7 +76,6 @@ def test_another_performer_is_recognised_and_only_as_the_right_gesture(taught, t
         assert all(0.1 < done - start < length for start, (done, _) in zip(starts, events))  # under way first
 
 
-
 @pytest.mark.parametrize("motion, rest_s", [(circle, 0.3), (punch, 0.1)], ids=["circle", "punch"])
 def test_repetitions_back_to_back_each_complete_once(taught, tmp_path, motion, rest_s):
     """A performer repeating the gesture quickly with hardly a rest between (a rhythm beaten again
