@@ -12,6 +12,7 @@ without a show (`issv isf` feeds a depth view to ISF image inputs). GL loads onl
 """
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
@@ -19,7 +20,7 @@ from host import profile as profiles
 from host.assemble import make_backend, make_stage
 from host.contracts import Backend, Effect
 from host.errors import UserError
-from host.loop import Limits, Show
+from host.loop import WALL_GRACE_S, Limits, Show
 from host.metrics import Metrics
 from host.model import Frame, Gesture
 from host.plugins import default_manager, default_registry
@@ -29,7 +30,14 @@ from host.tap import SensorTap
 if TYPE_CHECKING:
     import moderngl
 
-__all__ = ["EffectCanvas", "Metrics", "SensorShow", "UserError", "headless_context", "plugin_class"]
+__all__ = ["EffectCanvas", "Metrics", "SensorShow", "UserError", "add_limit_arguments", "headless_context", "plugin_class"]
+
+
+def add_limit_arguments(p: argparse.ArgumentParser) -> None:
+    """--frames and --seconds: when a show ends by itself (host.loop.Limits), for every command that runs one."""
+    p.add_argument("--frames", type=int, metavar="N", help="stop after N sensor frames")
+    p.add_argument("--seconds", type=float, metavar="S", help=f"stop after S seconds of source time, and after "
+                   f"S + {WALL_GRACE_S:g} s of wall time at most (a live input that sends nothing ends too)")
 
 
 def plugin_class(kind: str, name: str) -> type:

@@ -34,6 +34,7 @@ def crop(text: str) -> tuple[int, int, int, int]:
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     from backends.network.wire import CODECS, DEFAULT_CODEC  # numpy and zstandard: loaded anyway by the backend
+    from host.app import add_limit_arguments
     p.add_argument("profile", help="a profile TOML file; its source and backend are served")
     p.add_argument("--bind", metavar="ADDR",
                    help=f"where to publish (default {DEFAULT_BIND}: this machine only; tcp://0.0.0.0:5555 "
@@ -49,8 +50,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--downscale", type=int, default=1, metavar="N", help="keep every Nth depth pixel and row")
     p.add_argument("--crop", type=crop, metavar="X,Y,W,H", help="send only this part of the depth image")
     p.add_argument("--depth-fps", type=float, metavar="F", help="send at most F depth images per second")
-    p.add_argument("--frames", type=int, metavar="N", help="stop after N sensor frames")
-    p.add_argument("--seconds", type=float, metavar="S", help="stop after S seconds of source time")
+    add_limit_arguments(p)
     p.add_argument("--fast", action="store_true", help="do not pace recorded sources")
     p.add_argument("--stats-json", metavar="FILE", help="write what was published (and the show's metrics) as JSON at exit")
 

@@ -6,7 +6,7 @@ import sys
 import time
 from pathlib import Path
 
-from host.app import SensorShow
+from host.app import SensorShow, add_limit_arguments
 from host.model import Frame
 from host.recording import RecordingWriter
 
@@ -37,8 +37,7 @@ class RecordingSink:
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("profile", help="a profile TOML file: its source and backend are recorded")
     p.add_argument("-o", "--output", required=True, metavar="FILE.mcap", help="the recording to write")
-    p.add_argument("--seconds", type=float, metavar="S", help="stop after S seconds of source time")
-    p.add_argument("--frames", type=int, metavar="N", help="stop after N sensor frames")
+    add_limit_arguments(p)
     p.add_argument("--fast", action="store_true", help="do not pace recorded sources: as fast as possible")
 
 

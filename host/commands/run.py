@@ -8,7 +8,7 @@ from pathlib import Path
 
 from host import profile as profiles
 from host.assemble import make_backend, make_effects, make_stage
-from host.app import check_sensor, play
+from host.app import add_limit_arguments, check_sensor, play
 from host.loop import Limits, Show
 from host.plugins import default_manager
 from host.reload import Reloader
@@ -30,8 +30,7 @@ def size(text: str) -> tuple[int, int]:
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("profile", help="a profile TOML file, e.g. profiles/demo.toml")
     p.add_argument("--headless", action="store_true", help="no window (EGL offscreen rendering)")
-    p.add_argument("--frames", type=int, metavar="N", help="stop after N sensor frames")
-    p.add_argument("--seconds", type=float, metavar="S", help="stop after S seconds of source time")
+    add_limit_arguments(p)
     p.add_argument("--metrics-json", metavar="FILE", help="write the final metrics as JSON")
     p.add_argument("--size", type=size, metavar="WxH", help="output size in pixels, e.g. 1920x1080")
     p.add_argument("--out", metavar="FILE.mp4", help="also write the show to a video file")
