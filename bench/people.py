@@ -188,6 +188,8 @@ def figures(recordings: list[Recording], outcomes: list[Outcome]) -> dict:
 
 
 def _dataset_figures(ds: str, pairs: list[tuple[Recording, Outcome]]) -> dict:
+    """One dataset's figures: recall (per group and person), false fires, the worst person, and
+    what the dataset adds (UTD-MHAD: confusion; MSRC-12: extra detections and response times)."""
     recall, by_person, ffr = _by_group(pairs, sorted({r.group for r, _ in pairs}) if ds == "kinder" else ["all"])
     person_all = defaultdict(list)
     for r, o in pairs:
