@@ -7,11 +7,16 @@ import os
 import signal
 import subprocess
 import sys
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
+
+from host.status import stderr
 
 
 DATA_ENV = "ISSV_DATA"
@@ -56,6 +61,16 @@ def percentiles(values, ps=(50, 90, 99)) -> dict[str, float]:
     if data.size == 0:
         return {f"p{p}": float("nan") for p in ps}
     return {f"p{p}": float(v) for p, v in zip(ps, np.percentile(data, ps))}
+
+
+@contextmanager
+def progress(description: str, total: int) -> Iterator[Callable[[], None]]:
+    """A bar on stderr while minutes of work run (the table or JSON stays alone on stdout); yields
+    the function that counts one item done."""
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                  console=stderr, transient=True) as bar:
+        task = bar.add_task(description, total=total)
+        yield lambda: bar.advance(task)
 
 
 def report(title: str, figures: dict, rows: list[list], columns: list[str], as_json: bool) -> None:

@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from bench import people
-from bench.common import data_set, parse_args, percentiles, report
+from bench.common import data_set, parse_args, percentiles, progress, report
 from host import GestureState
 from host.commands.gestures import TrajectoryFrame, read_trajectories
 from host.plugins import default_registry
@@ -232,40 +232,50 @@ def clip_tally(completed: dict[str, set[str]], labels: dict[str, str]) -> tuple[
     return tally, (fires / negatives if negatives else float("nan")), dict(elsewhere)
 
 
-def real_trajectories(backend: str, variation: Variation = Variation()) -> dict:
+def real_trajectories(backend: str, variation: Variation = Variation(), what: str = "real trajectories") -> dict:
     files = sorted(glob.glob(str(DATA / "trajectories" / "*.csv")))
     completed, labels, tally_latency = {}, {}, defaultdict(list)
     rng = np.random.default_rng(0)
-    for path in files:
-        label = labels[path] = label_of(path)
-        rec, names, times, hands = recognizer(backend), set(), [], defaultdict(list)
-        first_complete: dict[str, float] = {}
-        for frame in read_trajectories(Path(path)):
-            frame = variation.apply(frame, rng)
-            for g in rec.update(frame.t, frame.hands, frame.body, True):
-                if g.state is GestureState.COMPLETE:
-                    names.add(g.name)
-                    first_complete.setdefault(g.name, g.timestamp)
-            times.append(frame.t)
-            for h in frame.hands:
-                hands[h.side.value].append(h.position)
-        for g in rec.finish():  # the file ended: as `issv gestures` does
-            names.add(g.name)
-            first_complete.setdefault(g.name, g.timestamp)
-        completed[path] = names
-        want = POSITIVE.get(label)
-        if want in first_complete and want != "wave":  # a wave has no single stroke to end
-            tracks = [np.array(p) for p in hands.values() if len(p) == len(times)]
-            t = np.array(times)
-            fastest = max(tracks, key=lambda p: float(np.max(np.linalg.norm(np.diff(p, axis=0), axis=1) / np.diff(t))))
-            tally_latency[want].append(first_complete[want] - stroke_end(t, fastest))
+    with progress(what, len(files)) as done:
+        for path in files:
+            labels[path] = label_of(path)
+            completed[path], latency = _trajectory(backend, Path(path), POSITIVE.get(labels[path]), variation, rng)
+            if latency is not None:
+                tally_latency[POSITIVE[labels[path]]].append(latency)
+            done()
     tally, fire_rate, elsewhere = clip_tally(completed, labels)
     tally.latency = tally_latency
     return {"gestures": tally.figures(), "false_fire_rate": fire_rate, "fires_on_other_actions": elsewhere,
             "clips": len(files)}
 
 
-def real_clips(backend: str, limit: int | None, variation: DepthVariation | None = None) -> dict:
+def _trajectory(backend: str, path: Path, want: str | None, variation: Variation, rng) -> tuple[set[str], float | None]:
+    """One trajectory file through the recogniser: the gestures it completed, and how long after
+    its stroke ended the swipe or push `want` completed (None: not completed, or a wave)."""
+    rec, names, times, hands = recognizer(backend), set(), [], defaultdict(list)
+    first_complete: dict[str, float] = {}
+    for frame in read_trajectories(path):
+        frame = variation.apply(frame, rng)
+        for g in rec.update(frame.t, frame.hands, frame.body, True):
+            if g.state is GestureState.COMPLETE:
+                names.add(g.name)
+                first_complete.setdefault(g.name, g.timestamp)
+        times.append(frame.t)
+        for h in frame.hands:
+            hands[h.side.value].append(h.position)
+    for g in rec.finish():  # the file ended: as `issv gestures` does
+        names.add(g.name)
+        first_complete.setdefault(g.name, g.timestamp)
+    if want not in first_complete or want == "wave":  # a wave has no single stroke to end
+        return names, None
+    tracks = [np.array(p) for p in hands.values() if len(p) == len(times)]
+    t = np.array(times)
+    fastest = max(tracks, key=lambda p: float(np.max(np.linalg.norm(np.diff(p, axis=0), axis=1) / np.diff(t))))
+    return names, first_complete[want] - stroke_end(t, fastest)
+
+
+def real_clips(backend: str, limit: int | None, variation: DepthVariation | None = None,
+               what: str = "real depth clips") -> dict:
     from sources.clip import Clip, ClipOptions, ClipSource
 
     files = [f for f in sorted(glob.glob(str(DATA / "clips" / "*.npz")))
@@ -273,7 +283,7 @@ def real_clips(backend: str, limit: int | None, variation: DepthVariation | None
     cls = default_registry().get("backends", backend).cls
     completed, labels = {}, {}
     rng = np.random.default_rng(0)
-    with tempfile.TemporaryDirectory() as scratch:
+    with tempfile.TemporaryDirectory() as scratch, progress(what, len(files)) as done:
         for path in files:
             labels[path] = variation.label(label_of(path)) if variation is not None else label_of(path)
             played = path
@@ -286,6 +296,7 @@ def real_clips(backend: str, limit: int | None, variation: DepthVariation | None
                     names |= {g.name for g in frame.gestures if g.state is GestureState.COMPLETE}
                 names |= {g.name for g in b.finish() if g.state is GestureState.COMPLETE}
             completed[path] = names
+            done()
     tally, fire_rate, _ = clip_tally(completed, labels)
     return {"gestures": tally.figures(), "false_fire_rate": fire_rate, "clips": len(files)}
 
@@ -416,9 +427,10 @@ def main() -> None:
     if not args.quick:
         figures["real_clips"] = real_clips(args.backend, args.clips)
     figures["synthetic"] = synthetic(args.backend, PERFORMERS, with_tracker=not args.quick)
-    figures["varied_trajectories"] = {name: real_trajectories(args.backend, v) for name, v in VARIATIONS.items()}
+    figures["varied_trajectories"] = {name: real_trajectories(args.backend, v, f"trajectories as {name}")
+                                      for name, v in VARIATIONS.items()}
     if not args.quick:
-        figures["varied_clips"] = {name: real_clips(args.backend, args.clips, v)
+        figures["varied_clips"] = {name: real_clips(args.backend, args.clips, v, f"depth clips as {name}")
                                    for name, v in DEPTH_VARIATIONS.items()}
     rows = _table(figures)
     if args.backend == "openiss" and data_set(args, "msrc12-dev", "(d), the people of all three datasets"):

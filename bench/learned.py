@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import parse_args, report
+from bench.common import parse_args, progress, report
 from host.commands.gestures import read_trajectories
 from host.learned.classifier import Classifier
 from host.learned.examples import read_take
@@ -149,8 +149,11 @@ def protocol(folder: Path, workdir: Path, jobs: int = 2) -> tuple[dict, list[Pat
         files.append(out)
     learned = [a for f in files for a in ("--learned", str(f))]
     checked = streams(folder, CHECKED)
-    with ThreadPoolExecutor(jobs) as pool:
-        outs = list(pool.map(lambda s: _issv("gestures", str(s[0]), "--mirrored", *learned), checked))
+    outs = []
+    with ThreadPoolExecutor(jobs) as pool, progress("issv gestures on p04-p10", len(checked)) as done:
+        for o in pool.map(lambda s: _issv("gestures", str(s[0]), "--mirrored", *learned), checked):
+            outs.append(o)
+            done()
     events = [_learned(o) for o in outs]
     completed = {c: _completes(e) for (c, _), e in zip(checked, events)}
     out = score([(t, completed[c]) for c, t in checked])
@@ -166,10 +169,16 @@ def recognise(recognizer: LearnedRecognizer, csv: Path) -> list[tuple[float, str
     return events
 
 
-def recognised(gestures: list, checked: list[tuple[Path, dict]]) -> list[tuple[dict, list[tuple[float, str]]]]:
+def recognised(gestures: list, checked: list[tuple[Path, dict]],
+               what: str) -> list[tuple[dict, list[tuple[float, str]]]]:
     """(truth, COMPLETE events) of each recording, in process (every recogniser of the set shares
-    one classifier, trained once)."""
-    return [(t, recognise(LearnedRecognizer(gestures, True), c)) for c, t in checked]
+    one classifier, trained once), with a progress bar saying `what` runs."""
+    out = []
+    with progress(what, len(checked)) as done:
+        for c, t in checked:
+            out.append((t, recognise(LearnedRecognizer(gestures, True), c)))
+            done()
+    return out
 
 
 def teacher_side(folder: Path) -> dict:
@@ -179,7 +188,7 @@ def teacher_side(folder: Path) -> dict:
         others = [p for p in TEACHERS if p != held]
         gestures = [learn(name, [read_take(str(c), True) for c, t in streams(folder, others) if t["gesture"] == g])
                     for g, name in SIX.items()]
-        mine = recognised(gestures, streams(folder, [held]))
+        mine = recognised(gestures, streams(folder, [held]), f"taught by the others, on {held}")
         per_teacher[held] = score(mine)
         runs += mine
     out = score(runs)
@@ -212,7 +221,8 @@ def teach_more(folder: Path, files: list[Path], completed: dict) -> dict:
         more = learn(name, [read_take(f"{csv}@0-{cut:.2f}", True)], before=taught_before(taught[name]))
         figures = []
         for runs in ([(t, completed[c]) for c, t in checked],
-                     recognised([more if g.name == name else g for g in taught.values()], checked)):
+                     recognised([more if g.name == name else g for g in taught.values()], checked,
+                                f"{person} teaches {name} more")):
             s = score(runs)
             figures.append((s["recall"][name], s["false_fire_rate"]))
         out[f"{person} {name}"] = {"recall_before": figures[0][0], "recall_after": figures[1][0],

@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.common import data_set, parse_args, progress, report
 from host import GestureState
 from host.commands.gestures import TrajectoryFrame, read_trajectories
 
@@ -154,15 +155,18 @@ def _run(args) -> Outcome:
 _RECORDINGS: list[Recording] = []
 
 
-def run_all(recordings: list[Recording], rules=None, jobs: int = 2) -> list[Outcome]:
-    """Every recording's outcome under `rules` (forked workers share the loaded recordings)."""
+def run_all(recordings: list[Recording], rules=None, what: str = "default rules", jobs: int = 2) -> list[Outcome]:
+    """Every recording's outcome under `rules` (forked workers share the loaded recordings), with a
+    progress bar saying `what` runs."""
     global _RECORDINGS
     _RECORDINGS = recordings
     work = [(i, rules) for i in range(len(recordings))]
-    if jobs <= 1:
-        return [_run(w) for w in work]
-    with ProcessPoolExecutor(jobs) as pool:
-        return list(pool.map(_run, work, chunksize=4))
+    out = []
+    with progress(what, len(work)) as done, ProcessPoolExecutor(jobs) as pool:
+        for o in pool.map(_run, work, chunksize=4):
+            out.append(o)
+            done()
+    return out
 
 
 def varied(recordings: list[Recording], variation, seed: int = 0) -> list[Recording]:
@@ -254,7 +258,7 @@ def leave_one_person_out(recordings: list[Recording], jobs: int = 2) -> tuple[di
     from backends.engine.rules import GestureRules
     names = list(CHOICES)
     configs = [dict(zip(names, values)) for values in product(*CHOICES.values())]
-    runs = [run_all(recordings, GestureRules(**c), jobs) for c in configs]
+    runs = [run_all(recordings, GestureRules(**c), " ".join(f"{k}={v}" for k, v in c.items()), jobs) for c in configs]
     held: list[Outcome | None] = [None] * len(recordings)
     chosen = {}
     for person in sorted({(r.dataset, r.person) for r in recordings}):
@@ -293,15 +297,13 @@ def measure(data: Path, lopo: bool = True, variations: bool = False) -> dict:
         out["leave_one_person_out"], out["chosen"] = leave_one_person_out(recordings)
     if variations:
         from bench.gestures import VARIATIONS
-        out["variations"] = {name: figures(recordings, run_all(varied(recordings, v)))
+        out["variations"] = {name: figures(recordings, run_all(varied(recordings, v), what=f"as {name}"))
                              for name, v in VARIATIONS.items()}
     return out
 
 
 def print_tables(out: dict) -> None:
     """One table per section of `measure`'s figures."""
-    from bench.common import report
-
     sections = [(section, out[section]) for section in ("default", "leave_one_person_out") if section in out]
     sections += [(f"as {name}", fig) for name, fig in out.get("variations", {}).items()]
     for section, fig in sections:
@@ -316,8 +318,6 @@ def print_tables(out: dict) -> None:
 
 
 def main() -> None:
-    from bench.common import data_set, parse_args
-
     def extra(p):
         p.add_argument("--no-lopo", action="store_true", help="only the default rules, no leave-one-person-out")
         p.add_argument("--variations", action="store_true",
