@@ -7,13 +7,13 @@ import os
 import signal
 import subprocess
 import sys
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Iterable
 from pathlib import Path
+from typing import TypeVar
 
 import numpy as np
 from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.progress import track
 from rich.table import Table
 
 from host.status import stderr
@@ -63,14 +63,13 @@ def percentiles(values, ps=(50, 90, 99)) -> dict[str, float]:
     return {f"p{p}": float(v) for p, v in zip(ps, np.percentile(data, ps))}
 
 
-@contextmanager
-def progress(description: str, total: int) -> Iterator[Callable[[], None]]:
-    """A bar on stderr while minutes of work run (the table or JSON stays alone on stdout); yields
-    the function that counts one item done."""
-    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                  console=stderr, transient=True) as bar:
-        task = bar.add_task(description, total=total)
-        yield lambda: bar.advance(task)
+T = TypeVar("T")
+
+
+def tracked(items: Iterable[T], what: str, total: int | None = None) -> Iterable[T]:
+    """`items` as they come, with a progress bar saying `what` on stderr while minutes of work run
+    (the table or JSON stays alone on stdout)."""
+    return track(items, what, total=total, console=stderr, transient=True)
 
 
 def report(title: str, figures: dict, rows: list[list], columns: list[str], as_json: bool) -> None:

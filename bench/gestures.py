@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from bench import people
-from bench.common import data_set, parse_args, percentiles, progress, report
+from bench.common import data_set, parse_args, percentiles, report, tracked
 from host import GestureState
 from host.commands.gestures import TrajectoryFrame, read_trajectories
 from host.plugins import default_registry
@@ -236,13 +236,11 @@ def real_trajectories(backend: str, variation: Variation = Variation(), what: st
     files = sorted(glob.glob(str(DATA / "trajectories" / "*.csv")))
     completed, labels, tally_latency = {}, {}, defaultdict(list)
     rng = np.random.default_rng(0)
-    with progress(what, len(files)) as done:
-        for path in files:
-            labels[path] = label_of(path)
-            completed[path], latency = _trajectory(backend, Path(path), POSITIVE.get(labels[path]), variation, rng)
-            if latency is not None:
-                tally_latency[POSITIVE[labels[path]]].append(latency)
-            done()
+    for path in tracked(files, what):
+        labels[path] = label_of(path)
+        completed[path], latency = _trajectory(backend, Path(path), POSITIVE.get(labels[path]), variation, rng)
+        if latency is not None:
+            tally_latency[POSITIVE[labels[path]]].append(latency)
     tally, fire_rate, elsewhere = clip_tally(completed, labels)
     tally.latency = tally_latency
     return {"gestures": tally.figures(), "false_fire_rate": fire_rate, "fires_on_other_actions": elsewhere,
@@ -283,8 +281,8 @@ def real_clips(backend: str, limit: int | None, variation: DepthVariation | None
     cls = default_registry().get("backends", backend).cls
     completed, labels = {}, {}
     rng = np.random.default_rng(0)
-    with tempfile.TemporaryDirectory() as scratch, progress(what, len(files)) as done:
-        for path in files:
+    with tempfile.TemporaryDirectory() as scratch:
+        for path in tracked(files, what):
             labels[path] = variation.label(label_of(path)) if variation is not None else label_of(path)
             played = path
             if variation is not None:  # a real file, as an unseen clip would be
@@ -296,7 +294,6 @@ def real_clips(backend: str, limit: int | None, variation: DepthVariation | None
                     names |= {g.name for g in frame.gestures if g.state is GestureState.COMPLETE}
                 names |= {g.name for g in b.finish() if g.state is GestureState.COMPLETE}
             completed[path] = names
-            done()
     tally, fire_rate, _ = clip_tally(completed, labels)
     return {"gestures": tally.figures(), "false_fire_rate": fire_rate, "clips": len(files)}
 

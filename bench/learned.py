@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import parse_args, progress, report
+from bench.common import parse_args, report, tracked
 from host.commands.gestures import read_trajectories
 from host.learned.classifier import Classifier
 from host.learned.examples import read_take
@@ -149,11 +149,9 @@ def protocol(folder: Path, workdir: Path, jobs: int = 2) -> tuple[dict, list[Pat
         files.append(out)
     learned = [a for f in files for a in ("--learned", str(f))]
     checked = streams(folder, CHECKED)
-    outs = []
-    with ThreadPoolExecutor(jobs) as pool, progress("issv gestures on p04-p10", len(checked)) as done:
-        for o in pool.map(lambda s: _issv("gestures", str(s[0]), "--mirrored", *learned), checked):
-            outs.append(o)
-            done()
+    with ThreadPoolExecutor(jobs) as pool:
+        outs = list(tracked(pool.map(lambda s: _issv("gestures", str(s[0]), "--mirrored", *learned), checked),
+                            "issv gestures on p04-p10", len(checked)))
     events = [_learned(o) for o in outs]
     completed = {c: _completes(e) for (c, _), e in zip(checked, events)}
     out = score([(t, completed[c]) for c, t in checked])
@@ -173,12 +171,7 @@ def recognised(gestures: list, checked: list[tuple[Path, dict]],
                what: str) -> list[tuple[dict, list[tuple[float, str]]]]:
     """(truth, COMPLETE events) of each recording, in process (every recogniser of the set shares
     one classifier, trained once), with a progress bar saying `what` runs."""
-    out = []
-    with progress(what, len(checked)) as done:
-        for c, t in checked:
-            out.append((t, recognise(LearnedRecognizer(gestures, True), c)))
-            done()
-    return out
+    return [(t, recognise(LearnedRecognizer(gestures, True), c)) for c, t in tracked(checked, what)]
 
 
 def teacher_side(folder: Path) -> dict:

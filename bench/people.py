@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import data_set, parse_args, progress, report
+from bench.common import data_set, parse_args, report, tracked
 from host import GestureState
 from host.commands.gestures import TrajectoryFrame, read_trajectories
 
@@ -161,12 +161,8 @@ def run_all(recordings: list[Recording], rules=None, what: str = "default rules"
     global _RECORDINGS
     _RECORDINGS = recordings
     work = [(i, rules) for i in range(len(recordings))]
-    out = []
-    with progress(what, len(work)) as done, ProcessPoolExecutor(jobs) as pool:
-        for o in pool.map(_run, work, chunksize=4):
-            out.append(o)
-            done()
-    return out
+    with ProcessPoolExecutor(jobs) as pool:
+        return list(tracked(pool.map(_run, work, chunksize=4), what, len(work)))
 
 
 def varied(recordings: list[Recording], variation, seed: int = 0) -> list[Recording]:
