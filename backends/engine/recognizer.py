@@ -423,12 +423,13 @@ class _Hand:
         chain = self.tr.chains[stroke.axis]
         return (len(chain) >= 2 and chain[-1].direction == -stroke.direction
                 and stroke.start.t - chain[-1].end.t <= self.r.oscillation_max_gap_s
-                and stroke.duration <= self.r.wave_max_stroke_s and self.wave_high(stroke))
+                and self.wave_paced(stroke))
 
-    def wave_high(self, stroke: Stroke) -> bool:
-        """Does the stroke reach the height of a wave's swing (in front of the chest or higher)? Lower,
-        quick strokes back and forth are swipes repeated with their wind-ups, as fast as a wave's swings."""
-        return stroke.highest >= stroke.start.shoulder - self.r.wave_max_below_shoulder_mm * self.rec.size(stroke.start)
+    def wave_paced(self, stroke: Stroke) -> bool:
+        """Is the stroke as quick as a wave's swing and does it reach a wave's height (in front of the chest
+        or higher)? Slower or lower strokes back and forth are swipes repeated with their wind-ups."""
+        return (stroke.duration <= self.r.wave_max_stroke_s and stroke.highest >= stroke.start.shoulder
+                - self.r.wave_max_below_shoulder_mm * self.rec.size(stroke.start))
 
     def is_swipe(self, stroke: Stroke) -> bool:
         core = self.core(stroke)
@@ -488,7 +489,7 @@ class _Hand:
             self.confirm(pending)
         place = len(chain) if chain and chain[-1] is stroke else 1
         # the third of quick alternating strokes at a wave's height is a wave's; a slower or lower sweep is not
-        waving = place > 2 and stroke.duration <= self.r.wave_max_stroke_s and self.wave_high(stroke)
+        waving = place > 2 and self.wave_paced(stroke)
         if not waving and self.is_swipe(stroke) and (not follows or stronger):
             self.tr.pending[stroke.axis] = stroke
             self.announce(self.swipe_name(stroke), stroke.start.t, self.swipe_confidence(stroke), stroke.end)
@@ -551,9 +552,8 @@ class _Hand:
         (distances for the performer's size)."""
         r = self.r
         k = self.rec.size(stroke.start)
-        return (stroke.duration <= r.wave_max_stroke_s and stroke.travel >= r.wave_min_amplitude_mm * k
+        return (self.wave_paced(stroke) and stroke.travel >= r.wave_min_amplitude_mm * k
                 and stroke.dominance >= r.wave_min_dominance
-                and self.wave_high(stroke)
                 and (stroke.lowest >= stroke.start.shoulder - r.wave_arc_below_shoulder_mm * k
                      or opening and self.swung_up_into_wave(stroke))
                 and stroke.end.seen_since == stroke.start.seen_since
