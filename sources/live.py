@@ -1,9 +1,10 @@
 """What every camera source shares: the device's own rate and drops, and surviving an unplug.
 
 A subclass opens its device in `connect()`, releases it in `disconnect()` and waits for the next
-depth image in `grab()`. When no image comes for `STALL_S` seconds the camera is taken as gone:
-that is said once on stderr, the show goes on with the last frame (re-sent at the camera's rate),
-and the device is reopened every `RETRY_S` seconds until it answers again, which is said once too.
+image in `grab()`; a colour camera also says how its frames are made (`frame`, `blank`). When no
+image comes for `STALL_S` seconds the camera is taken as gone: that is said once on stderr, the
+show goes on with the last frame (re-sent at the camera's rate), and the device is reopened every
+`RETRY_S` seconds until it answers again, which is said once too.
 """
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from host import DepthFrame, Source
+from host import ColourFrame, DepthFrame, Source
 from host.errors import UserError
 
 
@@ -25,17 +26,17 @@ class EndOfStream(Exception):
 
 @dataclass(frozen=True)
 class Grabbed:
-    """One depth image from the device: millimetres, the device's clock (s), frames it skipped,
+    """One image from the device (depth: millimetres), the device's clock (s), frames it skipped,
     and when (time.perf_counter()) the library handed it over."""
 
-    depth: np.ndarray
+    image: np.ndarray
     device_time: float
     skipped: int = 0
     received: float = field(default_factory=time.perf_counter)
 
 
 class LiveCamera(Source):
-    """A depth camera (or a library replaying one at its own pace)."""
+    """A camera (or a library replaying one at its own pace): depth unless a subclass makes other frames."""
 
     live: ClassVar[bool] = True
     STALL_S: ClassVar[float] = 2.0
@@ -51,13 +52,22 @@ class LiveCamera(Source):
         pass
 
     def grab(self, timeout: float) -> Grabbed | None:
-        """The next depth image, None after `timeout` seconds without one; EndOfStream on a replay's end."""
+        """The next image, None after `timeout` seconds without one; EndOfStream on a replay's end."""
         raise NotImplementedError
+
+    def frame(self, image: np.ndarray, frame_id: int, timestamp: float) -> DepthFrame:
+        """The frame the show gets for one image."""
+        return DepthFrame(image, self.intrinsics, frame_id=frame_id, timestamp=timestamp, mirrored=self.mirrored)
+
+    def blank(self) -> np.ndarray:
+        """What is shown when the camera is lost before it sent anything: no reading."""
+        return np.zeros((self.height, self.width), np.uint16)
 
     def open(self) -> None:
         self._arrivals: deque[float] = deque(maxlen=90)
         self.dropped = 0
-        self._last: DepthFrame | None = None
+        self._last: DepthFrame | ColourFrame | None = None  # the last frame made, and its image
+        self._last_image: np.ndarray | None = None
         self._lost_at: float | None = None
         self._retry_at = 0.0
         self._count = 0
@@ -82,7 +92,7 @@ class LiveCamera(Source):
         state = "" if self._lost_at is None else f"  LOST {time.monotonic() - self._lost_at:.0f} s"
         return f"{self.name} {self.rate:5.1f} Hz  dropped {self.dropped}{state}"
 
-    def read(self) -> DepthFrame | None:
+    def read(self) -> DepthFrame | ColourFrame | None:
         if self._lost_at is not None and not self._reconnect():
             return self._hold()
         try:
@@ -90,17 +100,19 @@ class LiveCamera(Source):
         except EndOfStream:
             return None
         if got is None:
-            self._lose(f"no depth frame for {self.STALL_S:g} s (unplugged?)")
+            self._lose(f"no {type(self).frames} frame for {self.STALL_S:g} s (unplugged?)")
             return self._hold()
         now = time.monotonic()
         self._arrivals.append(now)
         self.dropped += got.skipped
         self._first_time = got.device_time if self._first_time is None else self._first_time
-        self._last = DepthFrame(got.depth, self.intrinsics, frame_id=self._count,
-                                timestamp=self._base + got.device_time - self._first_time, mirrored=self.mirrored)
-        self._count += 1
+        self._emit(got.image, self._base + got.device_time - self._first_time)
         self.handover_s = time.perf_counter() - got.received  # what this source adds to the latency
         return self._last
+
+    def _emit(self, image: np.ndarray, timestamp: float) -> None:
+        self._last, self._last_image = self.frame(image, self._count, timestamp), image
+        self._count += 1
 
     def _lose(self, why: str) -> None:
         print(f"issv: {self.name}: {why}; the show goes on with the last frame, reconnecting every "
@@ -128,12 +140,11 @@ class LiveCamera(Source):
             self._base, self._first_time = self._last.timestamp + 1.0 / self.fps, None
         return True
 
-    def _hold(self) -> DepthFrame | None:
-        """The last frame again, one camera period later (no reading at all if it never sent one)."""
+    def _hold(self) -> DepthFrame | ColourFrame:
+        """The last frame again, one camera period later (a blank one if it never sent any)."""
         time.sleep(1.0 / self.fps)
-        last = self._last or DepthFrame(np.zeros((self.height, self.width), np.uint16), self.intrinsics,
-                                        timestamp=-1.0 / self.fps, mirrored=self.mirrored)
-        self._last = DepthFrame(last.data, last.intrinsics, frame_id=self._count,
-                                timestamp=last.timestamp + 1.0 / self.fps, mirrored=last.mirrored)
-        self._count += 1
+        if self._last is None:
+            self._emit(self.blank(), 0.0)
+        else:
+            self._emit(self._last_image, self._last.timestamp + 1.0 / self.fps)
         return self._last

@@ -1,6 +1,7 @@
 """`webcam`: colour frames from an RGB camera (OpenCV capture) or a video file.
 
-A camera (`device`, an index) is live: `read()` waits for the device. A file (`path`) is paced by
+A camera (`device`, an index) is live: `read()` waits for the device, and a camera that stalls or is
+unplugged is handled as every camera source handles it (sources/live.py). A file (`path`) is paced by
 the host from its frames' timestamps (the video's own clock). `width`, `height` and `fps` ask the
 camera for a mode (it may pick the nearest it has; the frames say what came) and, for a file,
 resize its frames and leave its rate alone. The camera's horizontal field of view (`hfov_deg`,
@@ -10,16 +11,20 @@ second core does it while the backend works on the frame before.
 """
 from __future__ import annotations
 
+import dataclasses
 import queue
 import threading
 import time
 from typing import ClassVar
 
+import numpy as np
+
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from host import ColourFrame, Intrinsics, Source
+from host import ColourFrame, Intrinsics
 from host.errors import UserError
 from host.options import ProfilePath
+from sources.live import EndOfStream, Grabbed, LiveCamera
 
 AHEAD = 2  # frames decoded ahead of the backend
 
@@ -42,8 +47,10 @@ class WebcamOptions(BaseModel):
         return self
 
 
-class WebcamSource(Source):
-    """OpenCV capture: frames as RGB ColourFrames."""
+class WebcamSource(LiveCamera):
+    """OpenCV capture: frames as RGB ColourFrames. A camera goes through what every camera source
+    shares (sources/live.py): a stall or an unplug is said once, the show goes on with the last
+    frame and the camera is reopened until it answers; a file plays to its end."""
 
     name = "webcam"
     Options = WebcamOptions
@@ -54,6 +61,7 @@ class WebcamSource(Source):
         o = self.options
         self.live = o.device is not None  # an instance attribute: a camera is live, a file is paced
         self.fps = o.fps
+        self.width, self.height = o.width, o.height
         self.intrinsics = self._intrinsics(o.width, o.height)
         self._capture = None
         self.dropped = 0  # a camera's frames that made way for newer ones (the backend was behind)
@@ -63,12 +71,13 @@ class WebcamSource(Source):
         vfov = math.degrees(2 * math.atan(math.tan(math.radians(self.options.hfov_deg) / 2) * height / width))
         return Intrinsics.from_fov(width, height, self.options.hfov_deg, vfov)
 
-    def open(self) -> None:
+    def connect(self) -> None:
         import cv2
         o = self.options
         what = f"camera {o.device}" if self.live else f"video {o.path}"
         capture = cv2.VideoCapture(o.device if self.live else str(o.path))
         if not capture.isOpened():
+            capture.release()
             raise UserError(f"source 'webcam': cannot open {what} (is it connected / does the file exist, "
                             f"in a format OpenCV reads?)")
         if self.live:
@@ -78,29 +87,45 @@ class WebcamSource(Source):
         else:
             rate = capture.get(cv2.CAP_PROP_FPS)
             self.fps = rate if rate and rate > 0 else o.fps
-        self._capture, self._id, self._start = capture, 0, time.monotonic()
+        self._capture, self._start = capture, time.monotonic()
         self._ended = False
-        self._ahead: queue.Queue[ColourFrame | None] = queue.Queue(maxsize=AHEAD)
+        self._made_way = self._reported = 0  # frames that made way for newer ones, and those reported
+        self._ahead: queue.Queue[Grabbed | None] = queue.Queue(maxsize=AHEAD)
         self._stop = threading.Event()
         self._reader = threading.Thread(target=self._read_ahead, name="issv-webcam", daemon=True)
         self._reader.start()
 
-    def read(self) -> ColourFrame | None:
-        """The next frame (a file's every frame in order; a camera's newest), None at the end."""
+    def grab(self, timeout: float) -> Grabbed | None:
+        """The next image decoded: a file's every one in order, waiting as long as it takes; a
+        camera's newest, None after `timeout` without one."""
         if self._ended:
+            raise EndOfStream
+        try:
+            got = self._ahead.get(timeout=timeout if self.live else None)
+        except queue.Empty:
             return None
-        frame = self._ahead.get()
-        self._ended = frame is None
-        return frame
+        if got is None:
+            self._ended = True
+            raise EndOfStream
+        skipped, self._reported = self._made_way - self._reported, self._made_way
+        return dataclasses.replace(got, skipped=skipped)
+
+    def frame(self, image: np.ndarray, frame_id: int, timestamp: float) -> ColourFrame:
+        return ColourFrame(image, self.intrinsics, frame_id, timestamp, time.time(), self.options.mirror)
+
+    def blank(self) -> np.ndarray:
+        return np.zeros((self.height, self.width, 3), np.uint8)
 
     def _read_ahead(self) -> None:
         """Decoding and colour conversion on a thread of their own, beside the backend's work on the
         frame before. A file's frames all wait their turn; a camera's stale ones make way (dropped)."""
         while not self._stop.is_set():
-            frame = self._decode()
+            got = self._decode()
+            if got is None and self.live:
+                return  # the camera stopped answering: grab() times out, and the camera is reopened
             while True:
                 try:
-                    self._ahead.put(frame, timeout=0.1)
+                    self._ahead.put(got, timeout=0.1)
                     break
                 except queue.Full:
                     if self._stop.is_set():
@@ -108,13 +133,13 @@ class WebcamSource(Source):
                     if self.live:  # the backend is behind: the oldest frame goes, the newest waits
                         try:
                             self._ahead.get_nowait()
-                            self.dropped += 1
+                            self._made_way += 1
                         except queue.Empty:
                             pass
-            if frame is None:
+            if got is None:  # a file's end
                 return
 
-    def _decode(self) -> ColourFrame | None:
+    def _decode(self) -> Grabbed | None:
         import cv2
         o = self.options
         ok, bgr = self._capture.read()
@@ -128,16 +153,17 @@ class WebcamSource(Source):
         rgb = cv2.cvtColor(cv2.flip(bgr, 1) if o.mirror else bgr, cv2.COLOR_BGR2RGB)
         rgb.flags.writeable = False
         t = time.monotonic() - self._start if self.live else self._capture.get(cv2.CAP_PROP_POS_MSEC) / 1000.0
-        self._id += 1
-        return ColourFrame(rgb, self.intrinsics, self._id, t, time.time(), o.mirror)
+        return Grabbed(rgb, t)
 
     def health(self) -> str | None:
-        """A camera's frames dropped because the backend was behind."""
-        return f"{self.dropped} frames dropped" if self.live and self._capture is not None and self.dropped else None
+        """A camera's rate, frames dropped because the backend was behind, and whether it is there."""
+        return super().health() if self.live else None
 
-    def close(self) -> None:
-        if self._capture is not None:
-            self._stop.set()
-            self._reader.join(timeout=2.0)
+    def disconnect(self) -> None:
+        if self._capture is None:
+            return
+        self._stop.set()
+        self._reader.join(timeout=2.0)
+        if not self._reader.is_alive():  # a read stuck on a vanished camera keeps its capture
             self._capture.release()
-            self._capture = None
+        self._capture = None

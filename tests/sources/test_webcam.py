@@ -1,7 +1,12 @@
-"""`webcam` on a video file written here by OpenCV (no camera exists on this machine)."""
+"""`webcam` on a video file written here by OpenCV, and on a stand-in for a camera (no camera exists
+on this machine)."""
+import threading
+import time
+
 import numpy as np
 import pytest
 
+from host import ColourFrame
 from host.errors import UserError
 from sources.webcam import WebcamOptions, WebcamSource
 
@@ -60,11 +65,70 @@ def test_frames_read_ahead_come_in_order_and_closing_early_does_not_hang(tmp_pat
     ids = []
     while (frame := source.read()) is not None:
         ids.append(frame.frame_id)
-    assert ids == list(range(1, 31)) and source.read() is None and source.dropped == 0
+    assert ids == list(range(30)) and source.read() is None and source.dropped == 0
     source.close()
     looped = WebcamSource(WebcamOptions(path=str(path), width=320, height=240, loop=True))
     looped.open()
-    assert [looped.read().frame_id for _ in range(45)] == list(range(1, 46))  # past the end, again
+    assert [looped.read().frame_id for _ in range(45)] == list(range(45))  # past the end, again
     start = time.monotonic()
     looped.close()
     assert time.monotonic() - start < 1.0
+
+
+class StandInCamera:
+    """Stands in for cv2.VideoCapture on a USB webcam (none can be plugged in or pulled out here):
+    numbered images at 100 Hz while `plugged` is set; unplugged, it cannot be opened and every read
+    fails, as OpenCV's V4L2 capture does. The source's own code does everything else."""
+
+    plugged = threading.Event()
+    opened = 0
+
+    def __init__(self, device):
+        self.open = isinstance(device, int) and self.plugged.is_set()
+        type(self).opened += self.open
+        self.number = 0
+
+    def isOpened(self):
+        return self.open
+
+    def set(self, prop, value):
+        return True
+
+    def read(self):
+        time.sleep(0.01)
+        if not (self.open and self.plugged.is_set()):
+            return False, None
+        self.number += 1
+        return True, np.full((24, 32, 3), self.number % 256, np.uint8)
+
+    def release(self):
+        self.open = False
+
+
+def test_a_camera_unplugged_mid_show_is_said_once_held_and_reopened_so_the_show_goes_on(monkeypatch, capfd):
+    import cv2
+    monkeypatch.setattr(cv2, "VideoCapture", StandInCamera)
+    monkeypatch.setattr(WebcamSource, "STALL_S", 0.15)
+    monkeypatch.setattr(WebcamSource, "RETRY_S", 0.05)
+    StandInCamera.plugged.set()
+    source = WebcamSource(WebcamOptions(device=0, width=32, height=24, fps=100))
+    source.open()
+    before = [source.read() for _ in range(5)]
+    StandInCamera.plugged.clear()
+    during = [source.read()]  # the images decoded before the unplug, then the first held frame
+    while "LOST" not in source.health():
+        during.append(source.read())
+    held = [source.read() for _ in range(5)]
+    StandInCamera.plugged.set()
+    after = [source.read()]
+    while np.array_equal(after[-1].rgb, held[-1].rgb) and len(after) < 200:  # until the next retry
+        after.append(source.read())
+    source.close()
+    err = capfd.readouterr().err
+    assert err.count("webcam: no colour frame for 0.15 s (unplugged?)") == 1 and err.count("camera back after") == 1
+    last_seen = (before + during)[-2].rgb  # the show goes on with the last image the camera sent
+    assert all(isinstance(f, ColourFrame) and np.array_equal(f.rgb, last_seen) for f in [during[-1]] + held)
+    assert not np.array_equal(after[-1].rgb, last_seen) and StandInCamera.opened == 2
+    frames = before + during + held + after
+    assert all(b.frame_id > a.frame_id and b.timestamp > a.timestamp for a, b in zip(frames, frames[1:]))
+    assert "LOST" not in source.health()
