@@ -28,7 +28,7 @@ from host.learned.classifier import Classifier
 from host.user_cache import cache_dir
 
 FORMAT = b"issv-learned-classifier 1"  # bumped if what an entry holds changes
-KEEP = 64  # entries kept on disk (about 18 KB each for six gestures), the most recently written
+KEEP = 64  # entries kept on disk (about 18 KB each for six gestures), the most recently used
 TRAINED: dict[str, Classifier] = {}  # trained or read in this process, by key
 _ARRAYS = ("mean", "scale", "weights", "bias")
 
@@ -59,14 +59,21 @@ def _read(key: str, classes: int) -> Classifier | None:
     code's descriptor, finite numbers), else None."""
     d = classifier.describe_all(np.zeros((1, 6))).shape[1]
     shapes = dict(zip(_ARRAYS, [(d,), (d,), (2 * d, classes), (classes,)]))  # weights: descriptors and squares
+    path = cache_dir() / "learned" / f"{key}.npz"
     try:
-        with np.load(cache_dir() / "learned" / f"{key}.npz", allow_pickle=False) as entry:
+        with np.load(path, allow_pickle=False) as entry:
             arrays = {name: entry[name] for name in _ARRAYS}
             sound = str(entry["key"]) == key and all(
                 a.shape == shapes[name] and a.dtype == np.float64 and np.isfinite(a).all() for name, a in arrays.items())
     except Exception:  # missing, truncated, not an .npz, an array missing: whatever it is, train
         return None
-    return Classifier(**arrays) if sound and (arrays["scale"] > 0).all() else None
+    if not (sound and (arrays["scale"] > 0).all()):
+        return None
+    try:
+        os.utime(path)  # used now: pruning keeps the entries of the sets in use, however old
+    except OSError:
+        pass
+    return Classifier(**arrays)
 
 
 def _train_and_keep(key: str, taught: list[list[np.ndarray]]) -> Classifier:

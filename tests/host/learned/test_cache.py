@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -149,3 +150,19 @@ def test_a_cache_that_cannot_be_written_is_no_cache(files, trainings, tmp_path, 
     again = loaded(files)
     assert trainings == [2, 2]
     assert np.array_equal(again.probabilities(DESCRIPTORS), first.probabilities(DESCRIPTORS))
+
+
+def test_the_entries_kept_are_those_of_the_sets_used_last_however_long_ago_they_were_trained(
+        files, trainings, tmp_path, monkeypatch):
+    monkeypatch.setattr(cache, "KEEP", 2)
+    loaded(files)  # trained first, then used again after another set was trained
+    [entry_used_long] = entries(tmp_path)
+    loaded(files[::-1])
+    for entry in entries(tmp_path):  # written a minute apart, the set used long ago first
+        stamp = entry.stat().st_mtime - (120 if entry == entry_used_long else 60)
+        os.utime(entry, (stamp, stamp))
+    a_new_process()
+    loaded(files)  # read from disk: now the most recently used
+    loaded(files[:1])  # a third set: one entry goes
+    assert trainings == [2, 2, 1]
+    assert entry_used_long in entries(tmp_path) and len(entries(tmp_path)) == 2
