@@ -114,7 +114,7 @@ def table(schema: dict, core: bool = False, nested: bool = True) -> list[str]:
 
 def first_line(cls: type) -> str:
     doc = (cls.__doc__ or "").strip() or (sys.modules[cls.__module__].__doc__ or "").strip()
-    return doc.split("\n\n")[0].replace("\n", " ")
+    return " ".join(doc.split("\n\n")[0].split())
 
 
 def reference() -> str:

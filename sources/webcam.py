@@ -48,9 +48,9 @@ class WebcamOptions(BaseModel):
 
 
 class WebcamSource(LiveCamera):
-    """OpenCV capture: frames as RGB ColourFrames. A camera goes through what every camera source
-    shares (sources/live.py): a stall or an unplug is said once, the show goes on with the last
-    frame and the camera is reopened until it answers; a file plays to its end."""
+    """OpenCV capture: frames as RGB ColourFrames. A camera that stalls or is unplugged is said once,
+    the show goes on with its last frame and the camera is reopened until it answers, as the depth
+    cameras are (sources/live.py); a file plays to its end."""
 
     name = "webcam"
     Options = WebcamOptions
