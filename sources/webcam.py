@@ -11,11 +11,12 @@ second core does it while the backend works on the frame before.
 """
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import queue
 import threading
 import time
-from typing import ClassVar
+from typing import ClassVar, Iterator
 
 import numpy as np
 
@@ -47,6 +48,17 @@ class WebcamOptions(BaseModel):
         return self
 
 
+@contextlib.contextmanager
+def _opencv_silent(cv2) -> Iterator[None]:
+    """OpenCV's own log lines (several per failed open, from every capture backend it tries) off."""
+    level = cv2.utils.logging.getLogLevel()
+    cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_SILENT)
+    try:
+        yield
+    finally:
+        cv2.utils.logging.setLogLevel(level)
+
+
 class WebcamSource(LiveCamera):
     """OpenCV capture: frames as RGB ColourFrames. A camera that stalls or is unplugged is said once,
     the show goes on with its last frame and the camera is reopened until it answers, as the depth
@@ -74,12 +86,14 @@ class WebcamSource(LiveCamera):
     def connect(self) -> None:
         import cv2
         o = self.options
-        what = f"camera {o.device}" if self.live else f"video {o.path}"
-        capture = cv2.VideoCapture(o.device if self.live else str(o.path))
+        with _opencv_silent(cv2):  # our one line says it; a reconnect tried every second stays quiet
+            capture = cv2.VideoCapture(o.device if self.live else str(o.path))
         if not capture.isOpened():
             capture.release()
-            raise UserError(f"source 'webcam': cannot open {what} (is it connected / does the file exist, "
-                            f"in a format OpenCV reads?)")
+            raise UserError(f"source 'webcam': cannot open camera {o.device} (is it plugged in, and not in use "
+                            f"by another program?)" if self.live else
+                            f"source 'webcam': cannot open video {o.path} (does the file exist, in a format "
+                            f"OpenCV reads?)")
         if self.live:
             capture.set(cv2.CAP_PROP_FRAME_WIDTH, o.width)
             capture.set(cv2.CAP_PROP_FRAME_HEIGHT, o.height)

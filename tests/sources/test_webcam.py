@@ -46,12 +46,16 @@ def test_mirror_flips_the_image_and_says_so(tmp_path):
     assert frame.mirrored and frame.rgb[120, 300, 2] > 200  # the blue half is now on the right
 
 
-def test_device_or_path_and_a_clear_error_when_it_cannot_open(tmp_path):
+def test_device_or_path_and_one_clear_error_when_it_cannot_open(tmp_path, capfd):
     with pytest.raises(ValueError, match="either device"):
         WebcamOptions()
     source = WebcamSource(WebcamOptions(path=str(tmp_path / "missing.mp4")))
-    with pytest.raises(UserError, match="source 'webcam': cannot open video"):
+    with pytest.raises(UserError, match="source 'webcam': cannot open video .*missing.mp4 .does the file exist"):
         source.open()
+    camera = WebcamSource(WebcamOptions(device=7))  # no camera on this machine
+    with pytest.raises(UserError, match="source 'webcam': cannot open camera 7 .is it plugged in"):
+        camera.open()
+    assert capfd.readouterr().err == ""  # OpenCV's own lines, one per capture backend it tried, are kept out
 
 
 def test_frames_read_ahead_come_in_order_and_closing_early_does_not_hang(tmp_path):
