@@ -33,7 +33,8 @@ class UsbDevice:
                 f'MODE="0666"')
 
 
-def _read(folder: Path, name: str) -> str:
+def attribute(folder: Path, name: str) -> str:
+    """A sysfs attribute's text, '' when the file is not there."""
     try:
         return (folder / name).read_text().strip()
     except OSError:
@@ -44,13 +45,13 @@ def find(ids: dict[tuple[str, str], str]) -> list[UsbDevice]:
     """Plugged-in USB devices whose (vendor, product) is a key of `ids` (value: the model name)."""
     found, sysfs = [], SYSFS
     for folder in sorted(sysfs.glob("*")) if sysfs.is_dir() else []:
-        key = (_read(folder, "idVendor").lower(), _read(folder, "idProduct").lower())
+        key = (attribute(folder, "idVendor").lower(), attribute(folder, "idProduct").lower())
         if key not in ids:
             continue
-        bus, dev = _read(folder, "busnum"), _read(folder, "devnum")
+        bus, dev = attribute(folder, "busnum"), attribute(folder, "devnum")
         node = DEVFS / f"{int(bus or 0):03d}" / f"{int(dev or 0):03d}"
-        found.append(UsbDevice(key[0], key[1], _read(folder, "product") or ids[key], _read(folder, "serial"),
-                               _read(folder, "bcdDevice"), node))
+        found.append(UsbDevice(key[0], key[1], attribute(folder, "product") or ids[key], attribute(folder, "serial"),
+                               attribute(folder, "bcdDevice"), node))
     return found
 
 

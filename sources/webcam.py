@@ -13,21 +13,27 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import os
 import queue
+import sys
 import threading
 import time
+from pathlib import Path
 from typing import ClassVar, Iterator
 
 import numpy as np
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from host import ColourFrame, Intrinsics
+from host import ColourFrame, DeviceInfo, Intrinsics
 from host.errors import UserError
 from host.options import ProfilePath
+from sources import usb
 from sources.live import EndOfStream, Grabbed, LiveCamera
 
 AHEAD = 2  # frames decoded ahead of the backend
+V4L2_SYSFS = Path("/sys/class/video4linux")
+DEVFS = Path("/dev")
 
 
 class WebcamOptions(BaseModel):
@@ -46,6 +52,21 @@ class WebcamOptions(BaseModel):
         if (self.device is None) == (self.path is None):
             raise ValueError("give either device (a camera index, e.g. 0) or path (a video file)")
         return self
+
+
+def v4l2_cameras() -> list[DeviceInfo]:
+    """The cameras Linux's V4L2 sees, by the index `device` takes (a camera's capture node: the first
+    of its video nodes; the others carry metadata), with the group this user lacks to open one."""
+    found = []
+    for folder in sorted(V4L2_SYSFS.glob("video*"), key=lambda f: int(f.name[5:] or 0)):
+        if usb.attribute(folder, "index") not in ("", "0"):
+            continue
+        node, on_usb = DEVFS / folder.name, folder / "device" / ".."  # the USB device, above its interface
+        problem = None if os.access(node, os.R_OK | os.W_OK) else (
+            f"no permission on {node}: add yourself to its group (sudo usermod -aG video $USER) and log in again")
+        found.append(DeviceInfo(f"{usb.attribute(folder, 'name') or folder.name} (device = {folder.name[5:]})",
+                                usb.attribute(on_usb, "serial"), usb.attribute(on_usb, "bcdDevice"), (), problem))
+    return found
 
 
 @contextlib.contextmanager
@@ -67,6 +88,11 @@ class WebcamSource(LiveCamera):
     name = "webcam"
     Options = WebcamOptions
     frames: ClassVar[str] = "colour"
+
+    @classmethod
+    def devices(cls) -> list[DeviceInfo] | None:
+        """Cameras connected now (V4L2, so Linux only; None elsewhere: not known)."""
+        return v4l2_cameras() if sys.platform.startswith("linux") else None
 
     def __init__(self, options: WebcamOptions | None = None) -> None:
         super().__init__(options)

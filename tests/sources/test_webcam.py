@@ -1,12 +1,15 @@
 """`webcam` on a video file written here by OpenCV, and on a stand-in for a camera (no camera exists
 on this machine)."""
+import json
 import threading
 import time
 
 import numpy as np
 import pytest
 
+import sources.webcam as webcam
 from host import ColourFrame
+from host.cli import main as issv
 from host.errors import UserError
 from sources.webcam import WebcamOptions, WebcamSource
 
@@ -136,3 +139,29 @@ def test_a_camera_unplugged_mid_show_is_said_once_held_and_reopened_so_the_show_
     frames = before + during + held + after
     assert all(b.frame_id > a.frame_id and b.timestamp > a.timestamp for a, b in zip(frames, frames[1:]))
     assert "LOST" not in source.health()
+
+
+def test_issv_list_names_each_camera_by_the_index_a_profile_gives_and_what_keeps_one_closed(
+        tmp_path, monkeypatch, capsys):
+    """Linux's sysfs, as V4L2 lays it out for a USB camera with two video nodes (capture and metadata)
+    and a second camera whose node this user may not open (its /dev entry is left out here)."""
+    usb_camera = tmp_path / "usb" / "1-2"
+    interface = usb_camera / "1-2:1.0"
+    interface.mkdir(parents=True)
+    (usb_camera / "serial").write_text("SN0001\n")
+    (usb_camera / "bcdDevice").write_text("0019\n")
+    for number, index in ((0, 0), (1, 1), (10, 0)):
+        node = tmp_path / "video4linux" / f"video{number}"
+        node.mkdir(parents=True)
+        (node / "name").write_text(f"Camera {number}\n")
+        (node / "index").write_text(f"{index}\n")
+        (node / "device").symlink_to(interface)
+    (tmp_path / "dev").mkdir()
+    (tmp_path / "dev" / "video0").write_bytes(b"")
+    monkeypatch.setattr(webcam, "V4L2_SYSFS", tmp_path / "video4linux")
+    monkeypatch.setattr(webcam, "DEVFS", tmp_path / "dev")
+    assert issv(["list", "--json"]) == 0
+    found = {s["name"]: s for s in json.loads(capsys.readouterr().out)["sources"]}["webcam"]["devices"]
+    assert [(d["model"], d["serial"], d["firmware"]) for d in found] == [
+        ("Camera 0 (device = 0)", "SN0001", "0019"), ("Camera 10 (device = 10)", "SN0001", "0019")]
+    assert found[0]["problem"] is None and "sudo usermod -aG video" in found[1]["problem"]
