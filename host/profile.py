@@ -5,11 +5,12 @@ can fix a profile without reading a traceback.
 """
 from __future__ import annotations
 
+import difflib
 import json
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
@@ -122,8 +123,7 @@ def describe(file: str, error: dict, prefix: tuple = (), allowed: list[str] | No
     where = f"{file}: {_path(prefix + tuple(error['loc']))}"
     kind, msg = error["type"], error["msg"]
     if kind == "extra_forbidden":
-        hint = f"; expected one of: {', '.join(allowed)}" if allowed else ""
-        return f"{where}: unknown key{hint}"
+        return f"{where}: unknown key{_keys_hint(str(error['loc'][-1]), allowed or [])}"
     if kind == "missing":
         return f"{where}: required key is missing"
     for lead, repl in (("Input should be ", "expected "), ("Value error, ", ""), ("Assertion failed, ", "")):
@@ -132,9 +132,33 @@ def describe(file: str, error: dict, prefix: tuple = (), allowed: list[str] | No
     return f"{where}: {msg}, got {_got(error.get('input'))}"
 
 
+LISTED_KEYS = 12  # a table with more keys names the nearest few and where all of them are
+
+
+def _keys_hint(key: str, allowed: list[str]) -> str:
+    """What was meant by an unknown key: the keys allowed there, or the nearest of many."""
+    if len(allowed) <= LISTED_KEYS:
+        return f"; expected one of: {', '.join(allowed)}" if allowed else ""
+    near = difflib.get_close_matches(key, allowed, n=3, cutoff=0.6)
+    meant = f"; did you mean {', '.join(near)}?" if near else ""
+    return f"{meant} ({len(allowed)} keys here: docs/profile-reference.md lists them)"
+
+
 def _errors(file: str, error: ValidationError, model: type[BaseModel], prefix: tuple = ()) -> list[str]:
-    allowed = sorted(model.model_fields)
-    return [describe(file, e, prefix, allowed) for e in error.errors(include_url=False)]
+    return [describe(file, e, prefix, _keys_at(model, e["loc"][:-1])) for e in error.errors(include_url=False)]
+
+
+def _keys_at(model: type[BaseModel], loc: tuple) -> list[str] | None:
+    """The keys of the table at `loc` (an unknown key's parents): the nested model's fields, None
+    where the table is no model (a dict's keys, a list's items)."""
+    for part in loc:
+        field_info = model.model_fields.get(part) if isinstance(part, str) else None
+        nested = [t for t in (field_info.annotation, *get_args(field_info.annotation)) if field_info
+                  and isinstance(t, type) and issubclass(t, BaseModel)] if field_info else []
+        if not nested:
+            return None
+        model = nested[0]
+    return sorted(model.model_fields)
 
 
 def _resolve(file: str, registry: Registry, kind: str, ref: PluginRef, where: tuple,

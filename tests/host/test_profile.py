@@ -4,6 +4,7 @@ import sys
 import pytest
 from pydantic import BaseModel, ConfigDict
 
+from backends.engine.rules import GestureRules
 from backends.truth import TruthBackend
 from host import Effect
 from host.errors import ProfileError
@@ -68,6 +69,19 @@ def test_every_problem_is_reported_once(registry):
     assert any(l.startswith("profiles/x.toml: effects[0].sparkle: unknown key; expected one of: color, image, size")
                for l in lines)
     assert len(lines) == 4
+
+
+def test_an_unknown_key_in_a_nested_table_names_the_keys_of_that_table():
+    """`[backend] gestures = {...}` holds the recogniser's 70-odd thresholds, not the backend's keys."""
+    with pytest.raises(ProfileError) as caught:
+        parse('[source]\nname = "synthetic"\n[backend]\nname = "openiss"\n'
+              'gestures = { raise_hold_s = 0.4 }\nsmoothing = { beta_ = 0.1 }\n', "profiles/x.toml", "/show")
+    gestures, smoothing = sorted(caught.value.lines)
+    assert gestures.startswith("profiles/x.toml: backend.gestures.raise_hold_s: unknown key; did you mean "
+                               "raise_still_s, ")  # the nearest first
+    assert gestures.endswith(f"? ({len(GestureRules.model_fields)} keys here: docs/profile-reference.md lists them)")
+    assert smoothing == ("profiles/x.toml: backend.smoothing.beta_: unknown key; "
+                         "expected one of: beta, d_cutoff_hz, enabled, min_cutoff_hz")
 
 
 def test_broken_toml_and_top_level_keys(registry):
