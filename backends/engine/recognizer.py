@@ -385,12 +385,14 @@ class _Hand:
         wound up, or a wave's swing, starts with the hand moving) in front of the body, sweeps outwards
         into the arm's reach on its own side (no further to go that way; a wind-up for a swipe across
         the body also ends there, but after the hand swung up or across first, or drawn out from in
-        front of its shoulder), and no other hand moves meanwhile (arms balancing a kick, or spreading
-        together)."""
+        front of its shoulder), as far as an adult's swipe (a child's shorter stroke may be a wind-up
+        that reaches as far for her size), and no other hand moves meanwhile (arms balancing a kick,
+        or spreading together)."""
         r = self.r
         k = self.rec.size(stroke.start)
         start = stroke.start
-        if (not self.out_to(stroke, r.swipe_sure_reach_mm * k) or start.t - start.seen_since < r.swipe_rest_s
+        if (self.core(stroke).travel < r.swipe_min_travel_mm
+                or not self.out_to(stroke, r.swipe_sure_reach_mm * k) or start.t - start.seen_since < r.swipe_rest_s
                 or stroke.direction * float(start.p[X]) > r.swipe_sure_start_mm * k):
             return False
         before = [float(q.p[X]) for q in self.tr.samples if start.t - r.swipe_rest_s <= q.t <= start.t]
@@ -433,8 +435,12 @@ class _Hand:
 
     def is_swipe(self, stroke: Stroke) -> bool:
         core = self.core(stroke)
-        return (core.travel >= self.r.swipe_min_travel_mm and self.swipe_like(stroke)
+        return (core.travel >= self.swipe_travel_mm(stroke) and self.swipe_like(stroke)
                 and not self.mirrored_by_other_hand(core, along=True))
+
+    def swipe_travel_mm(self, stroke: Stroke) -> float:
+        """How far a swipe goes at least: sideways for the performer's size, up or down an adult's."""
+        return self.r.swipe_min_travel_mm * (self.rec.size(stroke.start) if stroke.axis == X else 1.0)
 
     def mirrored_by_other_hand(self, stroke: Stroke, along: bool = False) -> bool:
         """Did another hand make the opposite motion at the same time (a clap, arms spreading)? With
@@ -462,8 +468,8 @@ class _Hand:
                            _margin(core.dominance, dominance))
 
     def swipe_confidence(self, stroke: Stroke) -> float:
-        r = self.r
-        return self.stroke_confidence(stroke, r.swipe_min_travel_mm, r.swipe_min_peak_speed_mm_s, r.swipe_dominance)
+        return self.stroke_confidence(stroke, self.swipe_travel_mm(stroke), self.r.swipe_min_peak_speed_mm_s,
+                                      self.r.swipe_dominance)
 
     def stroke_ended(self, stroke: Stroke, reversed_: bool) -> None:
         chain = self.tr.chains[stroke.axis]

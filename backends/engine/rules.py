@@ -46,7 +46,10 @@ class GestureRules(BaseModel):
 
     # --- swipes -------------------------------------------------------------------------------
     swipe_min_travel_mm: float = Field(
-        350.0, gt=0, description="net travel along the swipe direction, relative to the body")
+        350.0, gt=0, description="net travel along the swipe direction, relative to the body (sideways: for "
+        "an adult, scaled to the performer's size, as their arms reach less far; up or down it stays an "
+        "adult's: scaled, smaller performers reaching over the shoulder and back, MSRC-12's change weapon, "
+        "fired swipes up and down)")
     swipe_max_duration_s: float = Field(1.0, gt=0, description="a slower stroke is a reach, not a swipe")
     swipe_min_peak_speed_mm_s: float = Field(
         1000.0, gt=0, description="peak speed along the swipe direction (a deliberate swipe peaks at 1.5-3 m/s)")
@@ -84,7 +87,8 @@ class GestureRules(BaseModel):
         350.0, gt=0, description="a sideways swipe from rest, sweeping outwards to at least this far out from "
         "the spine on its hand's own side (beyond the shoulder, the arm held out), with no other hand moving "
         "by `swipe_comparable_ratio` of its travel, is no wind-up: it completes without `swipe_confirm_s`, "
-        "as soon as it settles")
+        "as soon as it settles; if it travels at least an adult's `swipe_min_travel_mm` (a child's shorter "
+        "stroke out from rest may wind up a swipe across: it waits)")
     swipe_sure_start_mm: float = Field(
         150.0, description="and starts in front of the body: no further out than this from the spine on its "
         "hand's own side, inside the shoulder (MSRC-12's pushes to the side start 300 mm across the body to "

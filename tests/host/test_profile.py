@@ -79,7 +79,8 @@ def test_an_unknown_key_in_a_nested_table_names_the_keys_of_that_table():
     gestures, smoothing = sorted(caught.value.lines)
     assert gestures.startswith("profiles/x.toml: backend.gestures.raise_hold_s: unknown key; did you mean "
                                "raise_still_s, ")  # the nearest first
-    assert gestures.endswith(f"? ({len(GestureRules.model_fields)} keys here: docs/profile-reference.md lists them)")
+    keys = len(GestureRules.model_fields)
+    assert gestures.endswith(f"? ({keys} keys here: docs/profile-reference.md lists them)")
     assert smoothing == ("profiles/x.toml: backend.smoothing.beta_: unknown key; "
                          "expected one of: beta, d_cutoff_hz, enabled, min_cutoff_hz")
 

@@ -51,6 +51,34 @@ def test_a_short_or_slow_sideways_motion_is_not_a_swipe():
     assert completed(perform(c.swipe(travel=500, duration=2.0))) == []
 
 
+@pytest.mark.parametrize("k", [0.75, 0.85])
+def test_a_smaller_performers_swipe_across_is_as_long_as_their_arms_reach(k):
+    """A child of five (0.75 of an adult: torso to head 400 mm) or a short adult sweeps a hand across
+    as far, for their size, as an adult does 440 mm: 330 or 374 mm, short of an adult's 350 mm."""
+    swipe = c.swipe(travel=440.0)
+    swipe.size = k
+    assert completed(perform(swipe)) == ["swipe_left"]
+
+
+@pytest.mark.parametrize("k, expected", [(1.0, ["swipe_up"]), (0.75, [])])
+def test_a_swipe_up_keeps_an_adults_travel_whoever_makes_it(k, expected):
+    """Scaled, a smaller performer's reach over the shoulder and back (MSRC-12's "change weapon") would
+    fire swipes up and down (see `swipe_min_travel_mm`)."""
+    up = c.swipe_up(travel=440.0)
+    up.size = k
+    assert completed(perform(up)) == expected
+
+
+def test_a_childs_short_wind_up_from_rest_waits_and_the_swipe_across_it_turned_into_wins():
+    """Kinder-Gator p595 (a child of five) winds up 310 mm outwards from in front of her body, then
+    swipes 689 mm across. Here: 338 mm out, then 712 mm across. A swipe for her size, the wind-up is
+    short of an adult's, so it is no sure swipe completing at once (its refractory period would
+    swallow the real one) but waits, and the stronger stroke wins."""
+    windup = c.windup_swipe(windup=450.0, start=(0.0, 250.0, -350.0), still=0.5, windup_s=0.35, to=-500.0)
+    windup.size = 0.75
+    assert completed(perform(windup)) == ["swipe_left"]
+
+
 def test_the_wind_up_before_a_swipe_is_not_a_swipe_the_other_way():
     events = perform(c.windup_swipe())
     assert completed(events) == ["swipe_left"]
