@@ -152,9 +152,9 @@ def _keys_at(model: type[BaseModel], loc: tuple) -> list[str] | None:
     """The keys of the table at `loc` (an unknown key's parents): the nested model's fields, None
     where the table is no model (a dict's keys, a list's items)."""
     for part in loc:
-        field_info = model.model_fields.get(part) if isinstance(part, str) else None
-        nested = [t for t in (field_info.annotation, *get_args(field_info.annotation)) if field_info
-                  and isinstance(t, type) and issubclass(t, BaseModel)] if field_info else []
+        info = model.model_fields.get(part) if isinstance(part, str) else None
+        kinds = (info.annotation, *get_args(info.annotation)) if info else ()  # X, or X | None
+        nested = [t for t in kinds if isinstance(t, type) and issubclass(t, BaseModel)]
         if not nested:
             return None
         model = nested[0]
