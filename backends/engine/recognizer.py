@@ -27,9 +27,11 @@ matched against the rules (rules.py):
   still heading forward at its end (from the chest, or rising from a hanging hand), after which
   the hand halts (stops or comes back); not an arm's swing (running, walking, squatting).
 - HAND_RAISE: the hand up above the head and clear of it (hands put on the head are no raise),
-  then stopping: at the top of a lift, or held there.
+  then stopping: at the top of a lift, or held there; or kept up there, however it moves, for
+  `raise_hold_s` (arms lifted overhead may flap and never stop).
 Distance thresholds are stated for an adult and scale with the performer's size (the torso to
-head distance), so a child's smaller swipe is still a swipe.
+head distance), so a child's smaller swipe across is still a swipe (swipes up and down keep an
+adult's travel).
 Swipes and waves are one hand's: another hand making the mirror motion at the same time (a
 clap) cancels them.
 
@@ -120,6 +122,7 @@ class _HandTrack:
     raised_since: float | None = None  # when the hand last went up above the head
     raised_done: bool = False
     slow_since: float | None = None  # since when the raised hand has been moving slowly
+    clear_since: float | None = None  # since when the raised hand has been up and clear of the head
     squat_watch: Stroke | None = None  # a push of both hands from hanging: is the body about to squat?
 
     last: dict[int, Stroke] = field(default_factory=dict)  # per axis: the last stroke judged
@@ -757,18 +760,21 @@ class _Hand:
 
     # --- hand raise ---------------------------------------------------------------------------
     def hand_raise(self, s: Sample) -> None:
-        """Up above the head and clear of it, then stopping: at the top of a lift or held there."""
+        """Up above the head and clear of it, then stopping (at the top of a lift or held there), or
+        kept up and clear for `raise_hold_s` however it moves."""
         r, tr = self.r, self.tr
         k = self.rec.size(s)
         above = float(s.p[Y]) - (s.head + r.raise_min_above_head_mm * k)
         clear = float(np.linalg.norm(s.p - s.face)) - r.raise_clear_of_head_mm * k  # < 0: at the head
         if above < 0 or clear < 0:
-            tr.slow_since = None
+            tr.slow_since = tr.clear_since = None
             if above < -r.stroke_hysteresis_mm:  # lowered for real: the next raise counts again
                 tr.raised_since, tr.raised_done = None, False
             return
         if tr.raised_since is None:
             tr.raised_since = s.t
+        if tr.clear_since is None:
+            tr.clear_since = s.t
         if tr.raised_done:
             return
         confidence = _confidence(_margin(above + r.raise_min_above_head_mm * k, r.raise_min_above_head_mm * k),
@@ -779,7 +785,8 @@ class _Hand:
             tr.slow_since = s.t
         stopped = tr.slow_since is not None and s.t - tr.slow_since >= r.raise_still_s
         steady = abs(s.body_vy) <= r.steady_body_max_vertical_speed_mm_s
-        if s.t - tr.raised_since >= r.raise_min_up_s and stopped and steady:
+        held = s.t - tr.clear_since >= r.raise_hold_s
+        if s.t - tr.raised_since >= r.raise_min_up_s and (stopped or held) and steady:
             tr.raised_done = self.emit("hand_raise", GestureState.COMPLETE, confidence, s)
         else:
             self.announce("hand_raise", tr.raised_since, confidence, s)

@@ -215,6 +215,10 @@ class GestureRules(BaseModel):
         "(a hand still rising, or sweeping across in a wave, moves faster)")
     raise_still_s: float = Field(
         0.06, ge=0, description="for this long: a waving hand slows only for an instant where it turns")
+    raise_hold_s: float = Field(
+        0.7, gt=0, description="or up and clear of the head this long without a break, however it moves (arms "
+        "lifted overhead may flap or shake and never stop; a hand on the head strays clear of it only for "
+        "moments)")
 
     # --- per hand -----------------------------------------------------------------------------
     refractory_s: float = Field(

@@ -75,9 +75,9 @@ def test_an_unknown_key_in_a_nested_table_names_the_keys_of_that_table():
     """`[backend] gestures = {...}` holds the recogniser's 70-odd thresholds, not the backend's keys."""
     with pytest.raises(ProfileError) as caught:
         parse('[source]\nname = "synthetic"\n[backend]\nname = "openiss"\n'
-              'gestures = { raise_hold_s = 0.4 }\nsmoothing = { beta_ = 0.1 }\n', "profiles/x.toml", "/show")
+              'gestures = { raise_stil_s = 0.1 }\nsmoothing = { beta_ = 0.1 }\n', "profiles/x.toml", "/show")
     gestures, smoothing = sorted(caught.value.lines)
-    assert gestures.startswith("profiles/x.toml: backend.gestures.raise_hold_s: unknown key; did you mean "
+    assert gestures.startswith("profiles/x.toml: backend.gestures.raise_stil_s: unknown key; did you mean "
                                "raise_still_s, ")  # the nearest first
     keys = len(GestureRules.model_fields)
     assert gestures.endswith(f"? ({keys} keys here: docs/profile-reference.md lists them)")

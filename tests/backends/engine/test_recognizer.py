@@ -308,6 +308,23 @@ def test_a_hand_swept_up_above_the_head_and_held_there_is_a_swipe_up_then_a_hand
     assert completed(perform(c.swipe_up())) == ["swipe_up"]  # ending in front of the face: no raise
 
 
+def _shaken(raise_: c.Performance, up_and_down: float, forward: float, hz: float = 3.0) -> c.Performance:
+    """The raised right hand shaken up and down and back and forth the whole time (never slower than
+    2 pi hz times the smaller of the two), as MSRC-12's p02 flaps arms lifted overhead."""
+    lifted = raise_.hands[Side.RIGHT]
+    w = 2 * np.pi * hz
+    raise_.hands[Side.RIGHT] = lambda t: lifted(t) + np.array([0.0, up_and_down * np.sin(w * t), forward * np.cos(w * t)])
+    return raise_
+
+
+@pytest.mark.parametrize("hold, move, expected", [(1.0, 0.8, ["hand_raise"]), (0.0, 0.5, [])])
+def test_a_raised_hand_that_never_stops_is_a_hand_raise_once_held_up_long_enough(hold, move, expected):
+    """Up above the head and clear of it, shaken at 1.1-1.5 m/s, so never stopping at the top: held
+    there `raise_hold_s` (0.7 s) it is a raised hand; swung up and straight down, it is not."""
+    raise_ = c.hand_raise(above_head=350, aside=250, hold=hold, move=move)
+    assert completed(perform(_shaken(raise_, 80.0, 60.0))) == expected
+
+
 def test_a_hand_put_on_the_head_is_no_hand_raise_nor_swipe():
     """Hands on the head (MSRC-12's "had enough") rest above its centre but touch it."""
     on_head = c.hand_raise(above_head=120, hold=1.5, aside=60, forward=0)
