@@ -116,10 +116,9 @@ class WebcamSource(LiveCamera):
             capture = cv2.VideoCapture(o.device if self.live else str(o.path))
         if not capture.isOpened():
             capture.release()
-            raise UserError(f"source 'webcam': cannot open camera {o.device} (is it plugged in, and not in use "
-                            f"by another program?)" if self.live else
-                            f"source 'webcam': cannot open video {o.path} (does the file exist, in a format "
-                            f"OpenCV reads?)")
+            raise UserError(f"source 'webcam': cannot open {self._what()} " + (
+                "(is it plugged in, and not in use by another program?)" if self.live else
+                "(does the file exist, in a format OpenCV reads?)"))
         if self.live:
             capture.set(cv2.CAP_PROP_FRAME_WIDTH, o.width)
             capture.set(cv2.CAP_PROP_FRAME_HEIGHT, o.height)
@@ -128,12 +127,15 @@ class WebcamSource(LiveCamera):
             rate = capture.get(cv2.CAP_PROP_FPS)
             self.fps = rate if rate and rate > 0 else o.fps
         self._capture, self._start = capture, time.monotonic()
-        self._ended = False
+        self._ended, self._failure = False, ""
         self._made_way = self._reported = 0  # frames that made way for newer ones, and those reported
         self._ahead: queue.Queue[Grabbed | None] = queue.Queue(maxsize=AHEAD)
         self._stop = threading.Event()
         self._reader = threading.Thread(target=self._read_ahead, name="issv-webcam", daemon=True)
         self._reader.start()
+
+    def _what(self) -> str:
+        return f"camera {self.options.device}" if self.live else f"video {self.options.path}"
 
     def grab(self, timeout: float) -> Grabbed | None:
         """The next image decoded: a file's every one in order, waiting as long as it takes; a
@@ -146,6 +148,8 @@ class WebcamSource(LiveCamera):
             return None
         if got is None:
             self._ended = True
+            if self._failure:
+                raise UserError(self._failure)
             raise EndOfStream
         skipped, self._reported = self._made_way - self._reported, self._made_way
         return dataclasses.replace(got, skipped=skipped)
@@ -160,7 +164,11 @@ class WebcamSource(LiveCamera):
         """Decoding and colour conversion on a thread of their own, beside the backend's work on the
         frame before. A file's frames all wait their turn; a camera's stale ones make way (dropped)."""
         while not self._stop.is_set():
-            got = self._decode()
+            try:
+                got = self._decode()
+            except Exception as error:  # OpenCV's own errors, or an image it cannot convert: said by grab()
+                self._failure = f"source 'webcam': {self._what()}: cannot decode a frame: {error}"
+                got = None
             if got is None and self.live:
                 return  # the camera stopped answering: grab() times out, and the camera is reopened
             while True:

@@ -165,3 +165,24 @@ def test_issv_list_names_each_camera_by_the_index_a_profile_gives_and_what_keeps
     assert [(d["model"], d["serial"], d["firmware"]) for d in found] == [
         ("Camera 0 (device = 0)", "SN0001", "0019"), ("Camera 10 (device = 10)", "SN0001", "0019")]
     assert found[0]["problem"] is None and "sudo usermod -aG video" in found[1]["problem"]
+
+
+def test_a_video_whose_frame_cannot_be_decoded_ends_with_one_line_naming_it(tmp_path, monkeypatch):
+    """Whatever decoding raises on, the reader thread says so and the show hears it, instead of waiting
+    for a frame that never comes."""
+    decode = WebcamSource._decode
+
+    def third_fails(self):
+        self.decoded = getattr(self, "decoded", 0) + 1
+        if self.decoded == 3:
+            raise ValueError("a broken packet")
+        return decode(self)
+
+    monkeypatch.setattr(WebcamSource, "_decode", third_fails)
+    path = _video(tmp_path / "v.avi")
+    source = WebcamSource(WebcamOptions(path=str(path)))
+    source.open()
+    assert [source.read().frame_id for _ in range(2)] == [0, 1]
+    with pytest.raises(UserError, match=f"source 'webcam': video {path}: cannot decode a frame: a broken packet"):
+        source.read()
+    source.close()
