@@ -2,7 +2,7 @@
 host modules listed in PUBLIC_MODULES, nowhere else in host (docs/architecture.md, Plugins and
 the import rule; tests/test_imports.py checks it)."""
 from host.contracts import (Backend, DeviceInfo, Effect, NoOptions, Plugin, PluginUnavailable, Recognizer,
-                            Source, Stage, frames_of)
+                            Source, Stage, Update, frames_of)
 from host.hookspecs import hookimpl
 from host.model import (
     CANONICAL_GESTURES,
@@ -46,6 +46,6 @@ __all__ = [
     "Backend", "CANONICAL_GESTURES", "ColourFrame", "DepthFrame", "DeviceInfo", "Effect", "Frame", "Gesture",
     "GestureState", "GestureType", "Hand", "HandState", "Intrinsics", "JOINTS", "Joint", "NoOptions", "PUBLIC_MODULES",
     "Plugin", "PluginUnavailable", "Recognizer", "SimpleOpenNIEffect", "Side", "Source", "Stage", "Truth",
-    "TruthGesture", "USER_COLOURS", "User", "UserTruth", "Vec3", "frames_of", "hookimpl", "profile_source",
+    "TruthGesture", "USER_COLOURS", "Update", "User", "UserTruth", "Vec3", "frames_of", "hookimpl", "profile_source",
     "user_colour", "__version__",
 ]

@@ -105,6 +105,10 @@ class Recognizer(Protocol):
         """The stream ended: gestures still being confirmed, now complete."""
 
 
+#: What `Backend.update()` answers: the next frame; None once the source ended; False while nothing came yet.
+Update = Frame | None | Literal[False]
+
+
 class Backend(Plugin):
     """A gesture provider: the OIGestureTracker contract (thesis Fig. 31) in Python form.
 
@@ -158,7 +162,7 @@ class Backend(Plugin):
     def stop_hand_tracking(self) -> None:
         self.tracking_hands = False
 
-    def update(self) -> Frame | None | Literal[False]:
+    def update(self) -> Update:
         raise NotImplementedError
 
     def finish(self) -> tuple[Gesture, ...]:

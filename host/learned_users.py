@@ -10,9 +10,9 @@ built-in recogniser's do. Frames without users go to the single recogniser on ev
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, Literal
+from typing import Any
 
-from host.contracts import Backend
+from host.contracts import Backend, Update
 from host.learned.backend import LearnedBackend
 from host.learned.recognizer import LearnedRecognizer
 from host.model import Frame, Gesture, HandState, User
@@ -23,9 +23,9 @@ BODY = ("torso", "head")  # the body points the learned features measure the han
 class _Given:
     """The frame LearnedByUser already read, for LearnedBackend to take as its backend's."""
 
-    frame: Frame | None | Literal[False] = None
+    frame: Update = None
 
-    def update(self) -> Frame | None | Literal[False]:
+    def update(self) -> Update:
         return self.frame
 
 
@@ -42,7 +42,7 @@ class LearnedByUser:
     def __getattr__(self, name: str) -> Any:
         return getattr(self.inner, name)
 
-    def update(self) -> Frame | None | Literal[False]:
+    def update(self) -> Update:
         frame = self.inner.update()
         if not isinstance(frame, Frame) or not frame.users:
             self._frame.frame = frame

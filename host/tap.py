@@ -1,9 +1,9 @@
 """A tap on the sensor path: sees every frame a backend makes, before newest-wins can drop one."""
 from __future__ import annotations
 
-from typing import Any, Callable, Literal
+from typing import Any, Callable
 
-from host.contracts import Backend
+from host.contracts import Backend, Update
 from host.model import Frame, Gesture
 
 
@@ -23,7 +23,7 @@ class SensorTap:
     def __getattr__(self, name: str) -> Any:
         return getattr(self.inner, name)
 
-    def update(self) -> Frame | None | Literal[False]:
+    def update(self) -> Update:
         frame = self.inner.update()
         if isinstance(frame, Frame):
             self._observe(frame)

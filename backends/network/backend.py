@@ -20,7 +20,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validat
 
 from backends.network import wire
 from backends.network.publisher import endpoints
-from host import Backend, DepthFrame, Frame, Gesture, PluginUnavailable
+from host import Backend, DepthFrame, Frame, Gesture, PluginUnavailable, Update
 from host.errors import UserError
 
 POLL_MS = 100
@@ -89,7 +89,7 @@ class NetworkBackend(Backend):
         self._stopping = threading.Event()
         self._busy = threading.Lock()
 
-    def update(self) -> Frame | None | Literal[False]:
+    def update(self) -> Update:
         """The next frame; False after a poll that brought nothing (no publisher yet, or a silent
         one), so the host keeps its time limits and stop requests; None once stopped, or with
         end_with_publisher once the publisher said goodbye."""

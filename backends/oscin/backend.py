@@ -24,7 +24,7 @@ from backends.oscin.schemes import (CustomScheme, InputTemplate, KinectV2Scheme,
                                     OSCeletonScheme, Scheme, SynapseScheme)
 from backends.engine.geometry import KINECT_V1
 from backends.users import BlankDepth, Users
-from host import Backend, Frame, Gesture
+from host import Backend, Frame, Gesture, Update
 from host.errors import UserError
 
 SchemeName = Literal["osceleton", "synapse", "ni-mate", "kinectv2", "mediapipe", "custom"]
@@ -145,7 +145,7 @@ class OscInBackend(Backend):
         self.recognise_s: list[float] = []
         self._last_t = (0.0, time.monotonic())  # (source time of the newest sample, its arrival)
 
-    def update(self) -> Frame | None | Literal[False]:
+    def update(self) -> Update:
         """The next frame; False when nothing came within a frame's time and nobody is in view (no
         bridge sending yet: the host checks its limits and asks again); None once ended idle."""
         o, rx = self.options, self.receiver

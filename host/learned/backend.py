@@ -6,9 +6,9 @@ learned gestures need nothing from the backend but its hands.
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, Literal
+from typing import Any
 
-from host.contracts import Backend
+from host.contracts import Backend, Update
 from host.learned.recognizer import LearnedRecognizer
 from host.model import Frame
 
@@ -23,7 +23,7 @@ class LearnedBackend:
     def __getattr__(self, name: str) -> Any:
         return getattr(self.inner, name)
 
-    def update(self) -> Frame | None | Literal[False]:
+    def update(self) -> Update:
         frame = self.inner.update()
         if not isinstance(frame, Frame):  # the end (None), or nothing yet (False)
             return frame
