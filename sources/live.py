@@ -2,9 +2,10 @@
 
 A subclass opens its device in `connect()`, releases it in `disconnect()` and waits for the next
 image in `grab()`; a colour camera also says how its frames are made (`frame`, `blank`). When no
-image comes for `STALL_S` seconds the camera is taken as gone: that is said once on stderr, the
-show goes on with the last frame (re-sent at the camera's rate), and the device is reopened every
-`RETRY_S` seconds until it answers again, which is said once too.
+image comes for `STALL_S` seconds (or `grab()` gives up sooner) the camera is taken as gone: that
+is said once on stderr (`stalled()` says why), the show goes on with the last frame (re-sent at the
+camera's rate), and the device is reopened every `RETRY_S` seconds until it answers again, which is
+said once too.
 """
 from __future__ import annotations
 
@@ -52,8 +53,13 @@ class LiveCamera(Source):
         pass
 
     def grab(self, timeout: float) -> Grabbed | None:
-        """The next image, None after `timeout` seconds without one; EndOfStream on a replay's end."""
+        """The next image, None after `timeout` seconds without one (or sooner, when the device is known
+        to be lost); EndOfStream on a replay's end."""
         raise NotImplementedError
+
+    def stalled(self) -> str:
+        """Why no image came, said once as the camera is taken as gone."""
+        return f"no {type(self).frames} frame for {self.STALL_S:g} s (unplugged?)"
 
     def frame(self, image: np.ndarray, frame_id: int, timestamp: float) -> DepthFrame:
         """The frame the show gets for one image."""
@@ -100,7 +106,7 @@ class LiveCamera(Source):
         except EndOfStream:
             return None
         if got is None:
-            self._lose(f"no {type(self).frames} frame for {self.STALL_S:g} s (unplugged?)")
+            self._lose(self.stalled())
             return self._hold()
         now = time.monotonic()
         self._arrivals.append(now)

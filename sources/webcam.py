@@ -1,11 +1,12 @@
 """`webcam`: colour frames from an RGB camera (OpenCV capture) or a video file.
 
-A camera (`device`, an index) is live: `read()` waits for the device, and a camera that stalls or is
-unplugged is handled as every camera source handles it (sources/live.py). A file (`path`) is paced by
-the host from its frames' timestamps (the video's own clock). `width`, `height` and `fps` ask the
-camera for a mode (it may pick the nearest it has; the frames say what came) and, for a file,
-resize its frames and leave its rate alone. The camera's horizontal field of view (`hfov_deg`,
-most webcams 60-70 degrees) gives the intrinsics that place what a backend finds in millimetres.
+A camera (`device`, an index) is live: `read()` waits for the device, and a camera that stalls, is
+unplugged or sends a frame it cannot decode is handled as every camera source handles it
+(sources/live.py). A file (`path`) is paced by the host from its frames' timestamps (the video's
+own clock). `width`, `height` and `fps` ask the camera for a mode (it may pick the nearest it has;
+the frames say what came) and, for a file, resize its frames and leave its rate alone. The camera's
+horizontal field of view (`hfov_deg`, most webcams 60-70 degrees) gives the intrinsics that place
+what a backend finds in millimetres.
 Frames are decoded and converted to RGB a frame or two ahead on a thread of their own, so the
 second core does it while the backend works on the frame before.
 """
@@ -147,12 +148,17 @@ class WebcamSource(LiveCamera):
         except queue.Empty:
             return None
         if got is None:
+            if self.live:  # a frame it could not decode stopped the reader: the camera is lost now
+                return None
             self._ended = True
             if self._failure:
-                raise UserError(self._failure)
+                raise UserError(f"source 'webcam': {self._failure}")
             raise EndOfStream
         skipped, self._reported = self._made_way - self._reported, self._made_way
         return dataclasses.replace(got, skipped=skipped)
+
+    def stalled(self) -> str:
+        return self._failure or super().stalled()
 
     def frame(self, image: np.ndarray, frame_id: int, timestamp: float) -> ColourFrame:
         return ColourFrame(image, self.intrinsics, frame_id, timestamp, time.time(), self.options.mirror)
@@ -166,10 +172,10 @@ class WebcamSource(LiveCamera):
         while not self._stop.is_set():
             try:
                 got = self._decode()
-            except Exception as error:  # OpenCV's own errors, or an image it cannot convert: said by grab()
-                self._failure = f"source 'webcam': {self._what()}: cannot decode a frame: {error}"
+            except Exception as error:  # OpenCV's own errors, or an image it cannot convert: said by read()
+                self._failure = f"{self._what()}: cannot decode a frame: {error}"
                 got = None
-            if got is None and self.live:
+            if got is None and self.live and not self._failure:
                 return  # the camera stopped answering: grab() times out, and the camera is reopened
             while True:
                 try:

@@ -186,3 +186,37 @@ def test_a_video_whose_frame_cannot_be_decoded_ends_with_one_line_naming_it(tmp_
     with pytest.raises(UserError, match=f"source 'webcam': video {path}: cannot decode a frame: a broken packet"):
         source.read()
     source.close()
+
+
+def test_a_camera_frame_that_cannot_be_decoded_is_said_with_its_error_and_the_camera_reopened(monkeypatch, capfd):
+    """Live, the show goes on with the last frame (a camera is reopened as after an unplug), and the line
+    says what went wrong at once, instead of waiting the stall time and guessing at an unplug."""
+    import cv2
+    decode = WebcamSource._decode
+    calls = []
+
+    def third_fails(self):
+        calls.append(1)
+        if len(calls) == 3:
+            raise ValueError("a broken packet")
+        return decode(self)
+
+    monkeypatch.setattr(cv2, "VideoCapture", StandInCamera)
+    monkeypatch.setattr(WebcamSource, "_decode", third_fails)
+    monkeypatch.setattr(WebcamSource, "RETRY_S", 0.05)
+    StandInCamera.plugged.set()
+    source = WebcamSource(WebcamOptions(device=0, width=32, height=24, fps=100))
+    source.open()
+    frames = [source.read() for _ in range(3)]
+    start = time.monotonic()
+    while "LOST" not in source.health():
+        frames.append(source.read())
+    lost_after = time.monotonic() - start
+    while "LOST" in source.health():
+        frames.append(source.read())
+    source.close()
+    err = capfd.readouterr().err
+    assert err.count("webcam: camera 0: cannot decode a frame: a broken packet; the show goes on") == 1
+    assert "unplugged" not in err and err.count("camera back after") == 1
+    assert lost_after < WebcamSource.STALL_S / 2
+    assert all(b.frame_id > a.frame_id for a, b in zip(frames, frames[1:]))
