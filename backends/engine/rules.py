@@ -167,8 +167,9 @@ class GestureRules(BaseModel):
         0.1, ge=0, description="a forward jump quicker than this is a tracking glitch, not a push (a depth "
         "tracker sees a fast push only once the hand is off the chest: three frames at 30 Hz)")
     click_max_duration_s: float = Field(
-        0.9, gt=0, description="a slower forward motion is a reach (a push begun from a hanging hand, "
-        "rising as it goes, takes up to 0.8 s)")
+        1.5, gt=0, description="a slower forward motion is no push (pushes from a hanging hand, rising as they "
+        "go, take 0.3-0.85 s, a child's the slowest, and a push from the hip to arm's length at a child's "
+        "deliberate pace 1.2-1.3 s; what moves forward slower is too slow for a push's speed anyway)")
     click_min_peak_speed_mm_s: float = Field(700.0, gt=0, description="peak forward speed")
     click_halt_max_speed_mm_s: float = Field(
         1000.0, gt=0, description="at its furthest point the hand nearly halts (stops or comes back): "
