@@ -53,6 +53,7 @@ PERFORMERS = {  # name -> synthetic source options (default: 1.75 m tall, 2.5 m 
     "default": {},
     "1.55 m, 1.8 m away": {"height_mm": 1550, "distance_mm": 1800},
     "1.95 m, 3.5 m away": {"height_mm": 1950, "distance_mm": 3500},
+    "a child, 1.2 m, 2 m away": {"height_mm": 1200, "distance_mm": 2000},
     "left-handed": {"handedness": "left"},
     "slow (x0.75)": {"speed": 0.75},
     "fast (x1.3)": {"speed": 1.3},

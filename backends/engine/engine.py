@@ -153,7 +153,7 @@ class Engine:
         box = bounding_box(mask, BEYOND_USER)
         if box is None or mask[box].size >= 0.8 * mask.size:
             return segment
-        return Segment(mask[box], g.crop(box))
+        return Segment(mask[box], g.crop(box), segment.floor)
 
     def _pipeline(self, uid: int) -> _Pipeline:
         # the user's hands are held while they are hidden, until the people tracker says LOST

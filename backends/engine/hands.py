@@ -25,6 +25,7 @@ import cv2
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
+from backends.engine.anatomy import Anatomy
 from backends.engine.trunk import Body
 from backends.engine.segmentation import ONE_CELL_GAP, Grid, Segment, bounding_box
 
@@ -82,9 +83,10 @@ class Candidate:
 class HandDetector:
     def __init__(self, options: HandOptions) -> None:
         self.options = options
+        self.anatomy = Anatomy(options)
 
     def detect(self, seg: Segment, body: Body) -> list[Candidate]:
-        o = self.options
+        o = self.options = self.anatomy.at(body.scale)  # the body's size: a child's arms and palms
         # Only the user's cells count, and the gap bridging reaches two cells out: the user's box
         # that much wider is all there is to look at.
         box = bounding_box(seg.mask, 2)

@@ -126,6 +126,7 @@ class Segment:
 
     mask: np.ndarray  # (h, w) bool on the grid
     grid: Grid
+    floor: np.ndarray | None = None  # the floor plane in view (nx, ny, nz, d): n.p + d = height above it
 
 
 @dataclass(frozen=True, eq=False)
@@ -192,7 +193,7 @@ class Segmenter:
             cut &= ~mask  # a rim cell is one person's
             first = bounding_box(mask)[0].start
             top = float(np.max(g.y[first][mask[first]]))
-            out.append(Person(Segment(mask, g), centre, top, np.count_nonzero(mask)))
+            out.append(Person(Segment(mask, g, self._plane), centre, top, np.count_nonzero(mask)))
         self._last_mask = out[0].segment.mask if out else None
         return out
 

@@ -14,6 +14,7 @@ import cv2
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
+from backends.engine.anatomy import Anatomy, Stature
 from backends.engine.quantiles import median, percentile
 from backends.engine.segmentation import BEYOND_USER, Segment, bounding_box
 from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
@@ -61,12 +62,15 @@ class Body:
     surface_z: float  # depth of the trunk's front surface
     face_z: float  # depth of the face: the head joint less a joint's depth
     core: np.ndarray  # (h, w) bool: trunk cells on the grid
+    scale: float = 1.0  # the performer's anatomy relative to an adult's (anatomy.py)
 
 
 class BodyEstimator:
     def __init__(self, options: BodyOptions, smoothing: SmoothingOptions) -> None:
         self.options = options
         self.smoothing = smoothing
+        self.anatomy = Anatomy(options)
+        self.stature = Stature()  # kept while the user is out of sight: they are as tall when back
         self.reset()
 
     def reset(self) -> None:
@@ -79,7 +83,9 @@ class BodyEstimator:
 
     def estimate(self, seg: Segment, t: float) -> Body | None:
         """The body frame of this frame at `t` seconds (None without a user)."""
-        o, g, mask = self.options, seg.grid, seg.mask
+        scale = self.stature.scale  # as tall as the crowns seen so far: this frame's goes in for the next
+        o = self.options = self.anatomy.at(scale)
+        g, mask = seg.grid, seg.mask
         if not mask.any():
             return None
         ref = self._surface_z if self._surface_z is not None else float(median(g.z[mask]))
@@ -111,6 +117,8 @@ class BodyEstimator:
         crown = self._crown(g.y, column, spine_strip & (g.z <= ref - o.plane_band_mm), o.head_radius_mm)
         if crown is not None:
             self._last_crown = (t, crown)
+            if seg.floor is not None:
+                self.stature.add(float(seg.floor[:3] @ (centre_x, crown, ref) + seg.floor[3]))
         elif self._last_crown is not None and t - self._last_crown[0] <= o.hidden_crown_hold_s:
             # An arm in front hides the head without raising the user's top; a performer standing
             # up from a bend brings the head up in front of the body: no crown to hold then.
@@ -143,7 +151,7 @@ class BodyEstimator:
         whole = np.zeros_like(seg.mask)
         whole[box] = core
         return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface,
-                    float(head[2]) - o.joint_depth_mm, whole)
+                    float(head[2]) - o.joint_depth_mm, whole, scale)
 
     def _leaning_head_x(self, x: np.ndarray, y: np.ndarray, mask: np.ndarray, centre_x: float) -> float:
         """Where across to look for the head: above the spine, unless the user's top is a head-wide

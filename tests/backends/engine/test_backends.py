@@ -22,7 +22,7 @@ from host.commands.track import track
 from host.errors import UserError
 from host.loop import MAX_FAILED_IN_A_ROW
 from host.plugins import default_registry
-from tests.backends.engine.performer import WAVE_THEN_REST, frames, swipe_cut_short, write_clip
+from tests.backends.engine.performer import WAVE_THEN_REST, frames, idle, swipe_cut_short, write_clip
 from sources.clip import ClipSource
 from tests.conftest import real_data
 
@@ -91,6 +91,15 @@ def test_openiss_reports_hands_and_the_wave_with_its_hand(wave):
     hand_ids = {h.id for f in out for h in f.hands}
     assert waves[0].hand_id in hand_ids and waves[0].side.value == "right"
     assert 0 < waves[0].confidence <= 1
+
+
+def test_a_child_is_tracked_with_a_childs_body_and_every_gesture_of_theirs_recognised():
+    """A 1.2 m child 2 m from the camera, the floor in view: their height scales the tracker's adult
+    anatomy (backends/engine/anatomy.py). With an adult's, the child's torso was placed 180 mm low, and
+    a wave was all that was recognised, one the child never made."""
+    steps = [{"action": a} for a in ("swipe_right", "click", "swipe_left", "hand_raise")]
+    child = frames([idle(0.6), *steps, idle(0.8)], height_mm=1200, distance_mm=2000, width=320, height=240)
+    assert [g.name for g in completed(play(OpenISSBackend, child))] == [a["action"] for a in steps]
 
 
 def test_stopped_tracking_and_detection_report_nothing(wave):

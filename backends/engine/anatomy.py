@@ -1,0 +1,69 @@
+"""The tracker's anatomy is an adult's; a child's is that scaled down by the child's height.
+
+The body and hand constants in mm (a chest's width, the shoulders below the crown, the spine below
+the shoulders, an arm's thickness, a palm) describe an adult. Adults' proportions vary less than the
+tolerances those constants carry, so everyone `ADULT_MIN_HEIGHT_MM` tall or taller gets them as they
+are. A shorter performer, a child, gets every length scaled by their height over that (and every
+area by its square): with an adult's spine 530 mm below the head, a 1.2 m child's torso was placed
+at their hips and nothing but a wave was ever recognised.
+
+The height is the crown's above the floor plane the segmenter found. Without a floor in view (a
+recording with the background removed, a camera pointing level at a wall) no height is known and
+the adult's constants stay.
+"""
+from __future__ import annotations
+
+from collections import deque
+from typing import Generic, TypeVar
+
+import numpy as np
+from pydantic import BaseModel
+
+from backends.engine.quantiles import percentile
+
+ADULT_MIN_HEIGHT_MM = 1500.0  # no shorter adult's anatomy is scaled
+HEIGHT_FRAMES = 90  # crowns remembered: 3 s at 30 Hz
+MIN_FRAMES = 10  # crowns seen above a floor before the height is trusted
+MIN_SCALE = 0.5  # a child of 0.75 m; anything smaller is a crouch that lasted, not a body
+STEP = 0.02  # the scale moves in steps this fine (the options are rebuilt only when it moves)
+
+Options = TypeVar("Options", bound=BaseModel)
+
+
+class Stature:
+    """How tall the performer stands, from their crown's recent heights above the floor, and the
+    scale of their anatomy that follows."""
+
+    def __init__(self) -> None:
+        self._heights: deque[float] = deque(maxlen=HEIGHT_FRAMES)
+        self.scale = 1.0
+
+    def add(self, height_mm: float) -> None:
+        self._heights.append(height_mm)
+        if len(self._heights) >= MIN_FRAMES:
+            heights = np.fromiter(self._heights, float, len(self._heights))
+            standing = float(percentile(heights, 90))  # a crouch, a bow or a seat for a moment
+            scale = min(max(standing / ADULT_MIN_HEIGHT_MM, MIN_SCALE), 1.0)
+            self.scale = round(scale / STEP) * STEP
+
+
+class Anatomy(Generic[Options]):
+    """An adult's options, and the same scaled for the performer at hand (rebuilt when the scale moves)."""
+
+    def __init__(self, adult: Options) -> None:
+        self.adult = adult
+        self._scale, self._options = 1.0, adult
+
+    def at(self, scale: float) -> Options:
+        if scale != self._scale:
+            self._scale, self._options = scale, scaled(self.adult, scale)
+        return self._options
+
+
+def scaled(options: Options, scale: float) -> Options:
+    """`options` with every length (`*_mm`) times `scale` and every area (`*_m2`) times its square."""
+    if scale == 1.0:
+        return options
+    update = {name: getattr(options, name) * (scale if name.endswith("_mm") else scale * scale)
+              for name in type(options).model_fields if name.endswith(("_mm", "_m2"))}
+    return options.model_copy(update=update)
