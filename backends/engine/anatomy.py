@@ -1,15 +1,17 @@
 """The tracker's anatomy is an adult's; a child's is that scaled down by the child's height.
 
-The body and hand constants in mm (a chest's width, the shoulders below the crown, the spine below
-the shoulders, an arm's thickness, a palm) describe an adult. Adults' proportions vary less than the
-tolerances those constants carry, so everyone `ADULT_MIN_HEIGHT_MM` tall or taller gets them as they
-are. A shorter performer, a child, gets every length scaled by their height over that (and every
-area by its square): with an adult's spine 530 mm below the head, a 1.2 m child's torso was placed
-at their hips and nothing but a wave was ever recognised.
+The body, hand and skeleton constants in mm (a chest's width, the shoulders below the crown, the
+spine below the shoulders, an arm's thickness and length, a palm) describe an adult. Adults'
+proportions vary less than the tolerances those constants carry, so everyone `ADULT_MIN_HEIGHT_MM`
+tall or taller gets them as they are. A shorter performer, a child, gets every length scaled by
+their height over that (and every area by its square): with an adult's spine 530 mm below the head,
+a 1.2 m child's torso was placed at their hips and nothing but a wave was ever recognised.
 
-The height is the crown's above the floor plane the segmenter found. Without a floor in view (a
-recording with the background removed, a camera pointing level at a wall) no height is known and
-the adult's constants stay.
+The height is the crown's above the floor plane the segmenter found (a hand raised over the head
+is no crown). Without a floor in view (a recording with the background removed, a camera pointing
+level at a wall) no height is known and the adult's constants stay. What it cannot tell: a seated
+adult is as tall as a child; and a floor plane fitted askew (a child 1.8 m from the camera, the
+plane tilted 9 degrees through their legs) makes a 1.1 m child 1.27 m.
 """
 from __future__ import annotations
 
@@ -61,9 +63,13 @@ class Anatomy(Generic[Options]):
 
 
 def scaled(options: Options, scale: float) -> Options:
-    """`options` with every length (`*_mm`) times `scale` and every area (`*_m2`) times its square."""
+    """`options` with every length (`*_mm`, or a range of them) times `scale` and every area (`*_m2`)
+    times its square."""
     if scale == 1.0:
         return options
-    update = {name: getattr(options, name) * (scale if name.endswith("_mm") else scale * scale)
-              for name in type(options).model_fields if name.endswith(("_mm", "_m2"))}
+    update = {}
+    for name in type(options).model_fields:
+        if name.endswith(("_mm", "_m2")):
+            factor, value = (scale if name.endswith("_mm") else scale * scale), getattr(options, name)
+            update[name] = tuple(v * factor for v in value) if isinstance(value, tuple) else value * factor
     return options.model_copy(update=update)

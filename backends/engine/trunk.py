@@ -115,10 +115,9 @@ class BodyEstimator:
         spine_strip = mask & (np.abs(g.x - head_x) < o.head_radius_mm)
         column = spine_strip & (np.abs(g.z - ref) < o.plane_band_mm)
         crown = self._crown(g.y, column, spine_strip & (g.z <= ref - o.plane_band_mm), o.head_radius_mm)
+        fresh = crown is not None  # this frame's crown, not one held while an arm hides it
         if crown is not None:
             self._last_crown = (t, crown)
-            if seg.floor is not None:
-                self.stature.add(float(seg.floor[:3] @ (centre_x, crown, ref) + seg.floor[3]))
         elif self._last_crown is not None and t - self._last_crown[0] <= o.hidden_crown_hold_s:
             # An arm in front hides the head without raising the user's top; a performer standing
             # up from a bend brings the head up in front of the body: no crown to hold then.
@@ -142,6 +141,8 @@ class BodyEstimator:
         head_cells = column & (g.y > shoulder_y + 100)
         if crown is not None:  # a hand raised over the head is not its crown
             crown = min(crown, shoulder_y + o.shoulder_below_crown_mm)
+            if fresh and seg.floor is not None:
+                self.stature.add(float(seg.floor[:3] @ (tx, crown, surface) + seg.floor[3]))
         if crown is None or not head_cells.any():
             head = np.array([tx, shoulder_y + o.shoulder_below_crown_mm - o.crown_above_head_mm, torso[2]])
         else:

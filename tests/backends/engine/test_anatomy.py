@@ -6,6 +6,7 @@ import pytest
 
 from backends.engine.anatomy import MIN_FRAMES, Stature, scaled
 from backends.engine.hands import HandOptions
+from backends.engine.skeleton import SkeletonOptions
 from backends.engine.smoothing import SmoothingOptions
 from backends.engine.trunk import BodyEstimator, BodyOptions
 from tests.backends.engine.test_trunk import PLANE_MM, silhouette
@@ -33,6 +34,7 @@ def test_lengths_and_areas_scale_and_nothing_else():
     child = scaled(adult, 0.5)
     assert child.palm_radius_mm == adult.palm_radius_mm / 2 and child.palm_area_m2 == adult.palm_area_m2 / 4
     assert child.max_hands == adult.max_hands and scaled(adult, 1.0) is adult
+    assert scaled(SkeletonOptions(), 0.5).upper_arm_mm == tuple(v / 2 for v in SkeletonOptions().upper_arm_mm)
 
 
 def test_a_child_standing_on_a_floor_gets_a_childs_trunk():
