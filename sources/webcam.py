@@ -103,7 +103,6 @@ class WebcamSource(LiveCamera):
         self.width, self.height = o.width, o.height
         self.intrinsics = self._intrinsics(o.width, o.height)
         self._capture = None
-        self.dropped = 0  # a camera's frames that made way for newer ones (the backend was behind)
 
     def _intrinsics(self, width: int, height: int) -> Intrinsics:
         import math

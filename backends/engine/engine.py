@@ -149,11 +149,11 @@ class Engine:
         """The segment cut down to the user's box plus BEYOND_USER cells, clamped to the grid."""
         if segment is None:
             return None
-        g, mask = segment.grid, segment.mask
+        mask = segment.mask
         box = bounding_box(mask, BEYOND_USER)
         if box is None or mask[box].size >= 0.8 * mask.size:
             return segment
-        return Segment(mask[box], g.crop(box), segment.floor)
+        return segment.crop(box)
 
     def _pipeline(self, uid: int) -> _Pipeline:
         # the user's hands are held while they are hidden, until the people tracker says LOST

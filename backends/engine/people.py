@@ -18,12 +18,12 @@ uint8 label image.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.assignment import best_assignment
-from backends.engine.segmentation import Person, Segment
+from backends.engine.segmentation import Person
 from host import HandState
 
 
@@ -214,8 +214,8 @@ def _union(parts: list[Person]) -> Person:
     """One person from the pieces a nearer person cuts them into (the biggest piece's centre)."""
     main = max(parts, key=lambda p: p.cells)
     mask = np.logical_or.reduce([p.segment.mask for p in parts])
-    return Person(Segment(mask, main.segment.grid, main.segment.floor), main.centre,
-                  max(p.top_mm for p in parts), sum(p.cells for p in parts))
+    return Person(replace(main.segment, mask=mask), main.centre, max(p.top_mm for p in parts),
+                  sum(p.cells for p in parts))
 
 
 def _vec(a: np.ndarray) -> tuple[float, float, float]:

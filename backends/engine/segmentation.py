@@ -15,7 +15,7 @@ Who is who from frame to frame is people.py's job; the segmenter only finds them
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import cv2
 import numpy as np
@@ -127,6 +127,10 @@ class Segment:
     mask: np.ndarray  # (h, w) bool on the grid
     grid: Grid
     floor: np.ndarray | None = None  # the floor plane in view (nx, ny, nz, d): n.p + d = height above it
+
+    def crop(self, box: tuple[slice, slice]) -> "Segment":
+        """The segment's cells in `box`, on the same floor."""
+        return replace(self, mask=self.mask[box], grid=self.grid.crop(box))
 
 
 @dataclass(frozen=True, eq=False)
@@ -444,8 +448,14 @@ def _boxes(labels: np.ndarray, which: np.ndarray) -> np.ndarray:
 
 def _height(g: Grid, plane: np.ndarray) -> np.ndarray:
     """Each cell's height above the plane (mm), in the grid's float32."""
+    return height_above(plane, g.x, g.y, g.z)
+
+
+def height_above(plane: np.ndarray, x, y, z):
+    """The height (mm) above `plane` (nx, ny, nz, d) of the point(s) x, y, z (mm; numbers or arrays, whose
+    dtype is kept)."""
     nx, ny, nz, d = (float(v) for v in plane)
-    return g.x * nx + g.y * ny + g.z * nz + d
+    return x * nx + y * ny + z * nz + d
 
 
 def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:

@@ -16,7 +16,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.anatomy import Anatomy, Stature
 from backends.engine.quantiles import median, percentile
-from backends.engine.segmentation import BEYOND_USER, Segment, bounding_box
+from backends.engine.segmentation import BEYOND_USER, Segment, bounding_box, height_above
 from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
 
 
@@ -142,7 +142,7 @@ class BodyEstimator:
         if crown is not None:  # a hand raised over the head is not its crown
             crown = min(crown, shoulder_y + o.shoulder_below_crown_mm)
             if fresh and seg.floor is not None:
-                self.stature.add(float(seg.floor[:3] @ (tx, crown, surface) + seg.floor[3]))
+                self.stature.add(height_above(seg.floor, tx, crown, surface))
         if crown is None or not head_cells.any():
             head = np.array([tx, shoulder_y + o.shoulder_below_crown_mm - o.crown_above_head_mm, torso[2]])
         else:
