@@ -4,8 +4,9 @@ A subclass opens its device in `connect()`, releases it in `disconnect()` and wa
 image in `grab()`; a colour camera also says how its frames are made (`frame`, `blank`). When no
 image comes for `STALL_S` seconds (or `grab()` gives up sooner) the camera is taken as gone: that
 is said once on stderr (`stalled()` says why), the show goes on with the last frame (re-sent at the
-camera's rate), and the device is reopened every `RETRY_S` seconds until it answers again, which is
-said once too.
+camera's rate), and the device is reopened every `RETRY_S` seconds until an image comes again, which
+is said once too. A device that reopens but fails again before any image, for the same reason (a
+camera whose every frame is undecodable), is not said again each second.
 """
 from __future__ import annotations
 
@@ -74,7 +75,9 @@ class LiveCamera(Source):
         self.dropped = 0
         self._last: DepthFrame | ColourFrame | None = None  # the last frame made, and its image
         self._last_image: np.ndarray | None = None
-        self._lost_at: float | None = None
+        self._lost_at: float | None = None  # lost since; until an image comes, even once reopened
+        self._reopened = False  # connect() answered since the loss, no image yet
+        self._why = ""  # what the loss was said to be
         self._retry_at = 0.0
         self._count = 0
         self._first_time: float | None = None
@@ -99,7 +102,7 @@ class LiveCamera(Source):
         return f"{self.name} {self.rate:5.1f} Hz  dropped {self.dropped}{state}"
 
     def read(self) -> DepthFrame | ColourFrame | None:
-        if self._lost_at is not None and not self._reconnect():
+        if self._lost_at is not None and not self._reopened and not self._reconnect():
             return self._hold()
         try:
             got = self.grab(self.STALL_S)
@@ -109,6 +112,9 @@ class LiveCamera(Source):
             self._lose(self.stalled())
             return self._hold()
         now = time.monotonic()
+        if self._lost_at is not None:
+            print(f"issv: {self.name}: camera back after {now - self._lost_at:.1f} s", file=sys.stderr)
+            self._lost_at, self._reopened = None, False
         self._arrivals.append(now)
         self.dropped += got.skipped
         self._first_time = got.device_time if self._first_time is None else self._first_time
@@ -121,10 +127,14 @@ class LiveCamera(Source):
         self._count += 1
 
     def _lose(self, why: str) -> None:
-        print(f"issv: {self.name}: {why}; the show goes on with the last frame, reconnecting every "
-              f"{self.RETRY_S:g} s", file=sys.stderr)
-        self._lost_at = time.monotonic()
-        self._retry_at = self._lost_at + self.RETRY_S
+        relapse = self._lost_at is not None  # reopened, but lost again before an image came
+        if not relapse or why != self._why:
+            print(f"issv: {self.name}: {why}; the show goes on with the last frame, reconnecting every "
+                  f"{self.RETRY_S:g} s", file=sys.stderr)
+        now = time.monotonic()
+        self._why, self._reopened, self._retry_at = why, False, now + self.RETRY_S
+        if not relapse:
+            self._lost_at = now
         self._arrivals.clear()
         try:
             self.disconnect()
@@ -140,8 +150,7 @@ class LiveCamera(Source):
             self.connect()
         except (UserError, RuntimeError, OSError):
             return False
-        print(f"issv: {self.name}: camera back after {now - self._lost_at:.1f} s", file=sys.stderr)
-        self._lost_at = None
+        self._reopened = True  # back once an image comes (read says so)
         if self._last is not None:  # time goes on from the last frame held, whatever the device's clock says
             self._base, self._first_time = self._last.timestamp + 1.0 / self.fps, None
         return True

@@ -220,3 +220,28 @@ def test_a_camera_frame_that_cannot_be_decoded_is_said_with_its_error_and_the_ca
     assert "unplugged" not in err and err.count("camera back after") == 1
     assert lost_after < WebcamSource.STALL_S / 2
     assert all(b.frame_id > a.frame_id for a, b in zip(frames, frames[1:]))
+
+
+def test_a_camera_whose_every_frame_cannot_be_decoded_is_said_once_and_stays_lost(monkeypatch, capfd):
+    """Reopened every retry, it fails again before any image: the line is not repeated each time, and
+    the camera is not said to be back (the HUD keeps saying LOST) until an image comes."""
+    import cv2
+
+    def always_fails(self):
+        raise ValueError("a broken packet")
+
+    monkeypatch.setattr(cv2, "VideoCapture", StandInCamera)
+    monkeypatch.setattr(WebcamSource, "_decode", always_fails)
+    monkeypatch.setattr(WebcamSource, "RETRY_S", 0.05)
+    StandInCamera.plugged.set()
+    opened = StandInCamera.opened
+    source = WebcamSource(WebcamOptions(device=0, width=32, height=24, fps=100))
+    source.open()
+    frames = [source.read() for _ in range(60)]
+    healthy = source.health()
+    source.close()
+    err = capfd.readouterr().err
+    assert StandInCamera.opened - opened >= 4  # it was reopened, and failed again, several times
+    assert err.count("cannot decode a frame: a broken packet") == 1 and "camera back" not in err
+    assert "LOST" in healthy
+    assert all(b.frame_id > a.frame_id for a, b in zip(frames, frames[1:]))  # the show went on
