@@ -93,7 +93,8 @@ class _Track:
     id: int
     side: Side
     filter: OneEuroFilter
-    position: np.ndarray
+    position: np.ndarray  # as reported: smoothed (and predicted, with `predict_s`)
+    found: np.ndarray  # where the hand was last found, unsmoothed
     born: float
     seen: float
     at_border: bool = False
@@ -162,7 +163,7 @@ class HandTracker:
         o = self.options
         for track, cand in matched.items():
             track.seen, track.at_border, track.confidence = t, cand.at_border, cand.confidence
-            track.reach = cand.reach
+            track.reach, track.found = cand.reach, cand.position
             track.position = track.filter(t, cand.position) + o.predict_s * track.filter.velocity
             track.confirmed = track.confirmed or t - track.born >= o.confirm_s
         for track in [tr for tr in self._tracks if not tr.confirmed and tr not in matched]:
@@ -225,7 +226,9 @@ class HandTracker:
     def _match(self, t: float, found: list[Candidate], torso: np.ndarray | None,
                mirrored: bool) -> dict[_Track, Candidate]:
         """The assignment of candidates to live tracks with the smallest total distance, within gates
-        and never across arms."""
+        and never across arms. A track's distance is from where its hand was last found or from its
+        smoothed position, the nearer: smoothing lags a fast hand (a whole arm swinging back in a wave)
+        and steadies a hand whose last find strayed."""
         tracks = self._tracks
         if not tracks or not found:
             return {}
@@ -234,14 +237,14 @@ class HandTracker:
         for i, tr in enumerate(tracks):
             gate = o.match_slack_mm + o.max_speed_mm_s * min(t - tr.seen, o.match_max_gap_s)
             for j, c in enumerate(found):
-                d = float(np.linalg.norm(tr.position - c.position))
+                d = float(min(np.linalg.norm(tr.found - c.position), np.linalg.norm(tr.position - c.position)))
                 if d <= gate and not self._other_arm(t, tr, c, torso, mirrored):
                     allowed[i, j] = d
         return {tracks[i]: found[j] for i, j in best_assignment(allowed, len(tracks), len(found))}
 
     def _birth(self, t: float, cand: Candidate, side: Side) -> _Track:
-        track = _Track(next(self._ids), side, OneEuroFilter(self.options.smoothing), cand.position, t, t,
-                       cand.at_border, cand.confidence, reach=cand.reach)
+        track = _Track(next(self._ids), side, OneEuroFilter(self.options.smoothing), cand.position, cand.position,
+                       t, t, cand.at_border, cand.confidence, reach=cand.reach)
         track.position = track.filter(t, cand.position)
         track.confirmed = self.options.confirm_s <= 0 or cand.confidence >= self.options.strong_confidence
         return track

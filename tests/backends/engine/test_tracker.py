@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from backends.engine.geometry import KINECT_V1, to_geometry
+from backends.engine.hands import Candidate
 from backends.engine.segmentation import SegmentationOptions
 from backends.engine.smoothing import OneEuroFilter, SmoothingOptions
 from backends.engine.tracker import HandTracker, TrackerOptions
@@ -250,3 +251,22 @@ def test_a_hand_held_through_a_dropout_is_reported_but_not_seen(wave):
     held = tracker.process(blank)
     assert [h.id for h in held.hands] == [h.id for h in last.hands] and held.seen == frozenset()
     assert [h.position for h in held.hands] == [h.position for h in last.hands]
+
+
+def test_a_fast_hand_is_matched_from_where_it_was_last_found_not_only_from_its_smoothed_position():
+    """The reported position is smoothed and lags a fast hand (a whole-arm wave swinging back): the
+    hand found next may be out of the gate from there yet within it of where it was last found. It is
+    the same hand, not a new one (UTD-MHAD's whole-arm waves lost their last swing so)."""
+    tracker = HandTracker()
+    o = tracker.options
+    dt = 1 / 30
+    gate = o.match_slack_mm + o.max_speed_mm_s * dt
+    found = np.array([0.0, 300.0, 2000.0])
+    shoulder = np.array([150.0, 300.0, 2000.0])
+    track = tracker._birth(0.0, Candidate(found, 600.0, False, shoulder, 1.0), Side.RIGHT)
+    track.position = found - np.array([100.0, 0.0, 0.0])  # smoothed: 100 mm behind a hand moving right
+    tracker._tracks.append(track)
+    next_frame = Candidate(found + np.array([gate - 10.0, 0.0, 0.0]), 600.0, False, shoulder, 1.0)
+    assert tracker._match(dt, [next_frame], None, True) == {track: next_frame}
+    too_far = replace(next_frame, position=found + np.array([gate + 10.0, 0.0, 0.0]))
+    assert tracker._match(dt, [too_far], None, True) == {}
