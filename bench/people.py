@@ -59,7 +59,8 @@ class Recording:
     frames: list[TrajectoryFrame] = field(default_factory=list, repr=False)
 
 
-def _person(name: str) -> str:
+def person_of(name: str) -> str:
+    """The performer a file name names (UTD-MHAD s1, s2, ...; p01, ...), "?" if none."""
     m = re.search(r"(?:^|_)(s\d+|p\d+)(?:_|$)", name)
     return m.group(1) if m else "?"
 
@@ -70,7 +71,7 @@ def load(data: Path) -> list[Recording]:
     for f in sorted(glob.glob(str(data / "utd-mhad-dev" / "trajectories" / "*.csv"))):
         label = Path(f).stem.split("_", 3)[-1]
         if label in UTD_POSITIVE or label in UTD_NEGATIVE:
-            out.append(Recording(f, "utd", _person(Path(f).name), UTD_POSITIVE.get(label),
+            out.append(Recording(f, "utd", person_of(Path(f).name), UTD_POSITIVE.get(label),
                                  negative=label in UTD_NEGATIVE))
     for f in sorted(glob.glob(str(data / "msrc12-dev" / "*.csv"))):
         truth = json.loads((Path(f).parent / "truth" / (Path(f).stem + ".json")).read_text())
