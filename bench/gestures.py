@@ -402,18 +402,18 @@ def _worst(fig: dict) -> str:
     w = fig.get("worst_person")
     if not w:
         return ""
-    return f"; worst {w['person']} {w['gesture']} {_fmt(w['recall'])}" if w["recall"] < 1 else "; every person 1.00"
+    return f"worst {w['person']} {w['gesture']} {_fmt(w['recall'])}" if w["recall"] < 1 else "every person 1.00"
 
 
 def _table(figures: dict) -> list[list]:
     """The rows of the printed table: real, synthetic per performer, then each variation."""
     rows = rows_of("real csv", figures["real_trajectories"]["gestures"])
     rows.append(["real csv", "false fires", _fmt(figures["real_trajectories"]["false_fire_rate"]),
-                 "", _worst(figures["real_trajectories"]).lstrip("; "), "", ""])
+                 "", _worst(figures["real_trajectories"]), "", ""])
     if "real_clips" in figures:
         rows += rows_of("real depth", figures["real_clips"]["gestures"])
         rows.append(["real depth", "false fires", _fmt(figures["real_clips"]["false_fire_rate"]), "",
-                     _worst(figures["real_clips"]).lstrip("; "), "", ""])
+                     _worst(figures["real_clips"]), "", ""])
     for kind, gestures in figures["synthetic"]["overall"].items():
         rows += rows_of(SECTION[kind], gestures)
     for performer, kinds in figures["synthetic"]["performers"].items():
@@ -425,9 +425,11 @@ def _table(figures: dict) -> list[list]:
         for name, fig in figures.get(section, {}).items():
             tp, fp, fn = (sum(f[k] for f in fig["gestures"].values()) for k in ("tp", "fp", "fn"))
             recalls = " ".join(f"{g} {_fmt(f['recall'])}" for g, f in fig["gestures"].items()
-                               if f["recall"] is not None) + _worst(fig)
+                               if f["recall"] is not None)
+            worst = _worst(fig)
             rows.append([f"{kind} {name}", f"false fires {_fmt(fig['false_fire_rate'])}", "",
-                         _fmt(tp / (tp + fn) if tp + fn else None), recalls, f"{tp}/{fp}/{fn}", ""])
+                         _fmt(tp / (tp + fn) if tp + fn else None), f"{recalls}; {worst}" if worst else recalls,
+                         f"{tp}/{fp}/{fn}", ""])
     return rows
 
 
