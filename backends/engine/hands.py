@@ -78,6 +78,7 @@ class Candidate:
     at_border: bool  # the hand touches the edge of the image
     root: np.ndarray  # where the arm joins the body (mm): tells left from right when arms cross
     confidence: float  # how much of a palm's area the sensor saw there, in [0, 1]
+    loose: bool = False  # its patch joins the body nowhere without a depth jump (a hand seen apart from its arm)
 
 
 class HandDetector:
@@ -131,7 +132,8 @@ class HandDetector:
                 # Sides: by where the arm joins the body; for two hands of one patch, by each hand.
                 seen = g.pixel_area_mm2[ys[palm], xs[palm]].sum() / (o.palm_area_m2 * 1e6)
                 found.append(Candidate(position, reach, at_border,
-                                       root if joint.any() and len(tips) == 1 else position, min(1.0, seen)))
+                                       root if joint.any() and len(tips) == 1 else position, min(1.0, seen),
+                                       loose=not joint.any()))
         found = self._one_per_arm(found, neck)
         found.sort(key=lambda c: -c.reach)
         kept: list[Candidate] = []

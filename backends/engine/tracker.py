@@ -44,6 +44,10 @@ class TrackerOptions(BaseModel):
     hold_s: float = Field(0.07, ge=0, description=(
         "a tracked hand missed for up to this long is still reported where it was last seen "
         "(two frames at 30 fps): a dropout does not make it flicker lost/new"))
+    loose_hand_mm: float = Field(250, ge=0, description=(
+        "a hand seen apart from its arm (no depth-continuous join to the body: a whole arm swinging across "
+        "the face) within this of a tracked hand's find and farther out is that hand, the find nearer the "
+        "body its forearm: a forearm's length"))
     match_max_gap_s: float = Field(0.1, gt=0, description="the gate stops growing after this long unseen: "
                                    "a hand that reappears far away is a new hand")
     other_arm_mm: float = Field(100, ge=0, description=(
@@ -152,7 +156,7 @@ class HandTracker:
                        mirrored: bool) -> tuple[Hand, ...]:
         """Follow the tracks the candidates continue, start new ones, and report the hands (those of
         ended tracks LOST), sorted by id."""
-        matched = self._match(t, found, torso, mirrored)
+        matched = self._farthest_out(t, self._match(t, found, torso, mirrored), found)
         self._follow(t, matched)
         out = self._admit(t, [c for c in found if c not in matched.values()], matched, torso, mirrored)
         out += self._report(t)
@@ -226,21 +230,44 @@ class HandTracker:
     def _match(self, t: float, found: list[Candidate], torso: np.ndarray | None,
                mirrored: bool) -> dict[_Track, Candidate]:
         """The assignment of candidates to live tracks with the smallest total distance, within gates
-        and never across arms. A track's distance is from where its hand was last found or from its
-        smoothed position, the nearer: smoothing lags a fast hand (a whole arm swinging back in a wave)
-        and steadies a hand whose last find strayed."""
+        and never across arms."""
         tracks = self._tracks
         if not tracks or not found:
             return {}
-        o = self.options
         allowed: dict[tuple[int, int], float] = {}  # (track, candidate) -> distance, for pairs within gates
         for i, tr in enumerate(tracks):
-            gate = o.match_slack_mm + o.max_speed_mm_s * min(t - tr.seen, o.match_max_gap_s)
+            gate = self._gate(t, tr)
             for j, c in enumerate(found):
-                d = float(min(np.linalg.norm(tr.found - c.position), np.linalg.norm(tr.position - c.position)))
+                d = self._distance(tr, c)
                 if d <= gate and not self._other_arm(t, tr, c, torso, mirrored):
                     allowed[i, j] = d
         return {tracks[i]: found[j] for i, j in best_assignment(allowed, len(tracks), len(found))}
+
+    def _gate(self, t: float, track: _Track) -> float:
+        """How far from the track a candidate may be found: a hand's fastest move since it was seen."""
+        o = self.options
+        return o.match_slack_mm + o.max_speed_mm_s * min(t - track.seen, o.match_max_gap_s)
+
+    @staticmethod
+    def _distance(track: _Track, cand: Candidate) -> float:
+        """From where the track's hand was last found or from its smoothed position, the nearer:
+        smoothing lags a fast hand (a whole arm swinging back in a wave) and steadies a hand whose
+        last find strayed."""
+        return float(min(np.linalg.norm(track.found - cand.position), np.linalg.norm(track.position - cand.position)))
+
+    def _farthest_out(self, t: float, matched: dict[_Track, Candidate],
+                      found: list[Candidate]) -> dict[_Track, Candidate]:
+        """The matches, each track moved on to a loose candidate left over that lies within its gate, a
+        forearm from the candidate it matched and farther out: a whole arm swinging across the face can
+        show its hand apart from the arm (taken for the other arm's) and the forearm nearer the last find."""
+        o = self.options
+        for c in [c for c in found if c.loose and c not in matched.values()]:
+            for tr, m in matched.items():
+                if (c.reach > m.reach and np.linalg.norm(c.position - m.position) <= o.loose_hand_mm
+                        and self._distance(tr, c) <= self._gate(t, tr)):
+                    matched[tr] = c
+                    break
+        return matched
 
     def _birth(self, t: float, cand: Candidate, side: Side) -> _Track:
         track = _Track(next(self._ids), side, OneEuroFilter(self.options.smoothing), cand.position, cand.position,

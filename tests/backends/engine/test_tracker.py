@@ -270,3 +270,23 @@ def test_a_fast_hand_is_matched_from_where_it_was_last_found_not_only_from_its_s
     assert tracker._match(dt, [next_frame], None, True) == {track: next_frame}
     too_far = replace(next_frame, position=found + np.array([gate + 10.0, 0.0, 0.0]))
     assert tracker._match(dt, [too_far], None, True) == {}
+
+
+def test_a_hand_seen_apart_from_its_arm_and_farther_out_is_the_tracked_hand_not_a_second_one():
+    """A whole arm swinging across the face: the depth shows the hand cut off from its arm (joined to the
+    body nowhere without a depth jump, so on the far side of the spine it looks like the other arm's)
+    and the forearm nearer the hand's last find. The hand keeps its id and moves on; the forearm is not
+    a hand. Joined to the body, the same find is the other arm's hand."""
+    def frame(loose: bool):
+        tracker = HandTracker()
+        torso, shoulder = np.array([0.0, 0.0, 2100.0]), np.array([150.0, 300.0, 2000.0])
+        found = np.array([40.0, 300.0, 2000.0])
+        first = tracker._update_tracks(0.0, [Candidate(found, 420.0, False, shoulder, 1.0)], torso, True)
+        forearm = Candidate(found + np.array([-20.0, -20.0, 0.0]), 380.0, False, shoulder, 1.0)
+        hand = Candidate(found + np.array([-170.0, 0.0, 0.0]), 430.0, False, found + np.array([-170.0, 0.0, 0.0]),
+                         1.0, loose=loose)
+        return first, tracker._update_tracks(1 / 30, [forearm, hand], torso, True)
+    first, after = frame(loose=True)
+    assert [h.id for h in after] == [first[0].id] and after[0].position[0] < first[0].position[0] - 50
+    _, after = frame(loose=False)
+    assert len(after) == 2
