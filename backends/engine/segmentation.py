@@ -206,13 +206,13 @@ class Segmenter:
         """The cells on the floor. A floor that still fits is kept (for up to `floor_every`
         frames): the search is the dearest step of segmenting, and a camera mostly stands still."""
         o = self.options
-        height = None if self._plane is None else _height(g, self._plane)
+        height = None if self._plane is None else height_above(self._plane, g.x, g.y, g.z)
         if height is None or self._floor_age >= o.floor_every or not self._fits(height, valid):
             self._plane, self._floor_age = self._find_floor(g, valid), 0
             if self._plane is None:
                 return np.zeros_like(valid)
             self._floor = self._plane
-            height = _height(g, self._plane)
+            height = height_above(self._plane, g.x, g.y, g.z)
         self._floor_age += 1
         return valid & (height < o.floor_tolerance_mm + 0.01 * g.z)
 
@@ -446,14 +446,9 @@ def _boxes(labels: np.ndarray, which: np.ndarray) -> np.ndarray:
     return boxes
 
 
-def _height(g: Grid, plane: np.ndarray) -> np.ndarray:
-    """Each cell's height above the plane (mm), in the grid's float32."""
-    return height_above(plane, g.x, g.y, g.z)
-
-
 def height_above(plane: np.ndarray, x, y, z):
     """The height (mm) above `plane` (nx, ny, nz, d) of the point(s) x, y, z (mm; numbers or arrays, whose
-    dtype is kept)."""
+    dtype is kept: a grid's cells stay float32)."""
     nx, ny, nz, d = (float(v) for v in plane)
     return x * nx + y * ny + z * nz + d
 

@@ -89,12 +89,12 @@ class SkeletonEstimator:
     _sides: dict[Side, _SideHand] = field(default_factory=lambda: {Side.LEFT: _SideHand(), Side.RIGHT: _SideHand()})
 
     def __post_init__(self) -> None:
-        self._anatomy = Anatomy(self.options)
+        self.anatomy = Anatomy(self.options)
 
     def estimate(self, seg: Segment, body: Body, extended: tuple[Hand, ...], mirrored: bool) -> Skeleton:
         """This frame's skeleton. `extended`: the tracker's hands that stick out of the body (in view
         or held), whose sides are the performer's."""
-        o = self.options = self._anatomy.at(body.scale)  # a child's limbs
+        o = self.options = self.anatomy.at(body.scale)  # a child's limbs
         view = _View.of(seg, body, o.behind_mm)
         torso = body.torso
         neck = np.array([torso[0], body.shoulder_y, torso[2]])
