@@ -8,10 +8,15 @@ their height over that (and every area by its square): with an adult's spine 530
 a 1.2 m child's torso was placed at their hips and nothing but a wave was ever recognised.
 
 The height is the crown's above the floor plane the segmenter found (a hand raised over the head
-is no crown). Without a floor in view (a recording with the background removed, a camera pointing
-level at a wall) no height is known and the adult's constants stay. What it cannot tell: a seated
-adult is as tall as a child; and a floor plane fitted askew (a child 1.8 m from the camera, the
-plane tilted 9 degrees through their legs) makes a 1.1 m child 1.27 m.
+is no crown); without a floor in view, the crown's above the feet when they are in view (a
+recording with its background removed; trunk.py says when the bottom of a silhouette is feet).
+With neither (a camera pointing level at a wall, legs cut off by the picture) no height is known
+and the adult's constants stay. The first crown sets the scale: a scale that changes moves the
+body frame at once (at 0.86 the spine joint is placed 83 mm nearer the crown), which the
+recogniser reads as the body moving and vetoes a swipe under way, so it had better change before
+the performer starts than ten crowns in (a clip's performer starts within half a second). What it
+cannot tell: a seated adult is as tall as a child; and a floor plane fitted askew (a child 1.8 m
+from the camera, the plane tilted 9 degrees through their legs) makes a 1.1 m child 1.27 m.
 """
 from __future__ import annotations
 
@@ -25,7 +30,6 @@ from backends.engine.quantiles import percentile
 
 ADULT_MIN_HEIGHT_MM = 1500.0  # no shorter adult's anatomy is scaled
 HEIGHT_FRAMES = 90  # crowns remembered: 3 s at 30 Hz
-MIN_FRAMES = 10  # crowns seen above a floor before the height is trusted
 MIN_SCALE = 0.5  # a child of 0.75 m; anything smaller is a crouch that lasted, not a body
 STEP = 0.02  # the scale moves in steps this fine (the options are rebuilt only when it moves)
 
@@ -42,11 +46,10 @@ class Stature:
 
     def add(self, height_mm: float) -> None:
         self._heights.append(height_mm)
-        if len(self._heights) >= MIN_FRAMES:
-            heights = np.fromiter(self._heights, float, len(self._heights))
-            standing = float(percentile(heights, 90))  # a crouch, a bow or a seat for a moment
-            scale = min(max(standing / ADULT_MIN_HEIGHT_MM, MIN_SCALE), 1.0)
-            self.scale = round(scale / STEP) * STEP
+        heights = np.fromiter(self._heights, float, len(self._heights))
+        standing = float(percentile(heights, 90))  # a crouch, a bow or a seat for a moment
+        scale = min(max(standing / ADULT_MIN_HEIGHT_MM, MIN_SCALE), 1.0)
+        self.scale = round(scale / STEP) * STEP
 
 
 class Anatomy(Generic[Options]):
