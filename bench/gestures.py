@@ -136,7 +136,7 @@ class DepthVariation:
     def apply(self, clip, rng: np.random.Generator) -> dict[str, np.ndarray]:
         """The clip's arrays (the depth clip format of docs/architecture.md) as this performer would give them."""
         kept = len(clip) - int(round(self.ends_sooner_s * clip.fps))
-        index = np.clip(np.round(np.arange(0, kept, 1 / self.tempo)).astype(int), 0, kept - 1)
+        index = np.clip(np.round(np.arange(0, kept, self.tempo)).astype(int), 0, kept - 1)
         k = clip.intrinsics
         spines = clip.body[:, 1] if clip.body is not None else np.zeros((len(clip), 3))
         depth = np.stack([self._frame(clip.depth[i], k, spines[i], rng) for i in index])
