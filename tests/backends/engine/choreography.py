@@ -227,10 +227,11 @@ def sweeps(times: int = 4, travel: float = 600.0, seconds: float = 0.7) -> Perfo
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 
 
-def wave(swings: int = 6, amplitude: float = 240.0, half_period: float = 0.2, height: float = 450.0) -> Performance:
-    """The right hand up beside the head, swinging side to side `swings` times."""
+def wave(swings: int = 6, amplitude: float = 240.0, half_period: float = 0.2, height: float = 450.0,
+         rise_s: float = 0.6) -> Performance:
+    """The right hand raised beside the head in `rise_s`, swinging side to side `swings` times."""
     centre = (250.0, height, -350.0)
-    right = rest(Side.RIGHT).hold(0.3).then(0.6, (centre[0] + amplitude / 2, height, centre[2]))
+    right = rest(Side.RIGHT).hold(0.3).then(rise_s, (centre[0] + amplitude / 2, height, centre[2]))
     for i in range(swings):
         x = centre[0] + (amplitude / 2 if i % 2 else -amplitude / 2)
         right = right.then(half_period, (x, height, centre[2]))

@@ -182,6 +182,14 @@ def test_a_wave_is_one_wave_and_no_swipe():
     assert [e.name for e in events if e.state is GestureState.IN_PROGRESS] == ["wave"]
 
 
+def test_a_wave_as_fast_as_a_wave_goes_is_a_wave():
+    """Swings of 0.1 s (5 Hz waving, `wave_min_swing_s`), three frames each at 30 Hz; from frame 12 on,
+    the first three of them span timestamps a hair less than 0.1 s apart in floating point."""
+    fastest = c.wave(swings=6, amplitude=200, half_period=0.1, rise_s=0.1)
+    assert completed(perform(fastest)) == ["wave"]
+    assert completed(perform(fastest, GestureRules(wave_min_swing_s=0.11))) == []
+
+
 def test_a_wave_below_the_shoulders_or_with_two_swings_is_not_a_wave():
     assert completed(perform(c.wave(height=-50))) == []  # at the belly
     assert completed(perform(c.wave(swings=2))) == []  # one reversal
