@@ -24,6 +24,7 @@ _HOLE = np.ones((3, 3), np.uint8)
 # Two feet side by side fill 150-290 mm of a silhouette's lowest row seen from the front (UTD-MHAD's
 # four adults, 2.8 m away); a body cut off at the hips or thighs fills more.
 FEET_MAX_WIDTH_MM = 300.0
+WHOLE_PERSON_MM = 900.0  # no one standing is shorter (a 3-year-old: 950 mm): less is a body cut off
 
 
 @cache
@@ -146,8 +147,8 @@ class BodyEstimator:
             crown = min(crown, shoulder_y + o.shoulder_below_crown_mm)
             if fresh and seg.floor is not None:
                 self.stature.add(height_above(seg.floor, tx, crown, surface))
-            elif fresh and (feet := _feet(seg)) is not None:
-                self.stature.add(crown - feet)
+            elif fresh and (height := _height_above_feet(seg, crown)) is not None:
+                self.stature.add(height)
         if crown is None or not head_cells.any():
             head = np.array([tx, shoulder_y + o.shoulder_below_crown_mm - o.crown_above_head_mm, torso[2]])
         else:
@@ -223,12 +224,13 @@ def _padding(box: tuple[slice, slice], shape: tuple[int, int], margin: int) -> t
             min(margin, cols.start), min(margin, shape[1] - cols.stop))
 
 
-def _feet(seg: Segment) -> float | None:
-    """How high (mm) the user's feet are when no floor is in view but the feet are (a recording with
-    its background removed): the user's lowest cells lie clear of the picture's bottom, with no
-    reading under them, and fill no more than a pair of feet's width. None otherwise: legs cut off
-    by the picture's end, hidden behind something nearer, or missing (dark trousers a depth camera
-    reads nothing from): a body cut off there would be taken for a child's."""
+def _height_above_feet(seg: Segment, crown: float) -> float | None:
+    """The crown's height (mm) above the user's feet when no floor is in view but the feet are (a
+    recording with its background removed): the user's lowest cells lie clear of the picture's
+    bottom, with no reading under them, fill no more than a pair of feet's width, and lie a whole
+    person's height below the crown. None otherwise: legs cut off by the picture's end, hidden
+    behind something nearer, missing (dark trousers a depth camera reads nothing from), or someone
+    seated at a desk too near the camera to read: a body cut off there would be taken for a child's."""
     g, mask = seg.grid, seg.mask
     rows = np.flatnonzero(np.count_nonzero(mask, axis=1) >= 2)  # one cell is noise
     if rows.size == 0 or rows[-1] >= mask.shape[0] - BEYOND_USER:
@@ -238,4 +240,5 @@ def _feet(seg: Segment) -> float | None:
     if (g.z[bottom + 1:, columns[0]:columns[-1] + 1].any()
             or np.count_nonzero(cells) * g.cell_x * float(median(g.z[bottom][cells])) > FEET_MAX_WIDTH_MM):
         return None
-    return float(median(g.y[bottom][cells]))
+    height = crown - float(median(g.y[bottom][cells]))
+    return height if height >= WHOLE_PERSON_MM else None

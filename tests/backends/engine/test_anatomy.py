@@ -81,6 +81,7 @@ def standing(height_mm: float, legs_end_mm: float | None = None, under_feet: boo
     (standing(1800), 1.0),  # an adult
     (standing(1800, legs_end_mm=-200), 1.0),  # an adult whose legs read nothing below the thighs: no child
     (standing(1200, under_feet=True), 1.0),  # something under the feet: a floor not found, or what hides them
+    (standing(850), 1.0),  # shorter than anyone standing: a body cut off (seated at a desk too near to read)
     (standing(1700).crop((slice(0, 75), slice(0, 60))), 1.0),  # legs cut off by the picture's bottom
 ])
 def test_without_a_floor_the_height_is_the_crowns_above_the_feet_when_they_are_in_view(person, scale):
