@@ -227,17 +227,18 @@ def _padding(box: tuple[slice, slice], shape: tuple[int, int], margin: int) -> t
 def _height_above_feet(seg: Segment, crown: float) -> float | None:
     """The crown's height (mm) above the user's feet when no floor is in view but the feet are (a
     recording with its background removed): the user's lowest cells lie clear of the picture's
-    bottom, with no reading under them, fill no more than a pair of feet's width, and lie a whole
-    person's height below the crown. None otherwise: legs cut off by the picture's end, hidden
-    behind something nearer, missing (dark trousers a depth camera reads nothing from), or someone
-    seated at a desk too near the camera to read: a body cut off there would be taken for a child's."""
+    bottom, with no reading in the BEYOND_USER rows under them (all the user's box holds), fill no
+    more than a pair of feet's width, and lie a whole person's height below the crown. None
+    otherwise: legs cut off by the picture's end, hidden behind something nearer, missing (dark
+    trousers a depth camera reads nothing from), or someone seated at a desk too near the camera to
+    read: a body cut off there would be taken for a child's."""
     g, mask = seg.grid, seg.mask
     rows = np.flatnonzero(np.count_nonzero(mask, axis=1) >= 2)  # one cell is noise
     if rows.size == 0 or rows[-1] >= mask.shape[0] - BEYOND_USER:
         return None
     bottom, columns = rows[-1], np.flatnonzero(mask.any(axis=0))
     cells = mask[bottom]
-    if (g.z[bottom + 1:, columns[0]:columns[-1] + 1].any()
+    if (g.z[bottom + 1:bottom + 1 + BEYOND_USER, columns[0]:columns[-1] + 1].any()
             or np.count_nonzero(cells) * g.cell_x * float(median(g.z[bottom][cells])) > FEET_MAX_WIDTH_MM):
         return None
     height = crown - float(median(g.y[bottom][cells]))

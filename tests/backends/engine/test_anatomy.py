@@ -70,7 +70,7 @@ def standing(height_mm: float, legs_end_mm: float | None = None, under_feet: boo
     z = np.where(body, PLANE_MM, 0).astype(np.float32)
     mask = body.copy()
     if under_feet:
-        z[(y < feet - 100) & (np.abs(x) <= 300)] = PLANE_MM - 200
+        z[(y < feet) & (np.abs(x) <= 300)] = PLANE_MM - 200
     grid = Grid(z, np.where(z > 0, x, 0), np.where(z > 0, y, 0), np.full_like(z, CELL_MM ** 2),
                 CELL_MM / PLANE_MM, CELL_MM / PLANE_MM)
     return Segment(mask, grid)
