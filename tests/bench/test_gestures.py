@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from bench.gestures import DEPTH_VARIATIONS, DepthVariation, worst_person
+from bench.gestures import DEPTH_VARIATIONS, worst_person
 from sources.clip import Clip
 
 
@@ -18,7 +18,8 @@ def test_the_worst_person_is_the_performer_and_gesture_with_the_lowest_recall():
     assert worst_person({"a22_s2_t1_jog.npz": set()}, {"a22_s2_t1_jog.npz": "jog"}) is None
 
 
-@pytest.mark.parametrize("name, frames, seconds", [("faster (0.7x time)", 21, 0.7), ("slower (1.4x time, 21 fps)", 30, 1.4)])
+@pytest.mark.parametrize("name, frames, seconds",
+                         [("faster (0.7x time)", 21, 0.7), ("slower (1.4x time, 21 fps)", 30, 1.4)])
 def test_a_faster_performer_skips_frames_and_a_slower_one_spreads_them(tmp_path, name, frames, seconds):
     """One second at 30 Hz, each frame's depth its own index: the faster performance is the same frames, in
     order, some skipped, over 0.7 s; the slower one every frame over 1.4 s."""

@@ -65,7 +65,8 @@ def standing(height_mm: float, legs_end_mm: float | None = None, under_feet: boo
     feet, crown = -1000.0, height_mm - 1000.0
     hips, neck = feet + 0.5 * height_mm, crown - 0.17 * height_mm
     leg_width = 100 + 70 * (y - feet) / (hips - feet)
-    legs = (np.abs(x) >= 30) & (np.abs(x) <= 30 + leg_width) & (y >= (feet if legs_end_mm is None else legs_end_mm)) & (y < hips)
+    legs_end = feet if legs_end_mm is None else legs_end_mm
+    legs = (np.abs(x) >= 30) & (np.abs(x) <= 30 + leg_width) & (y >= legs_end) & (y < hips)
     body = legs | ((np.abs(x) <= 200) & (y >= hips) & (y <= neck)) | ((np.abs(x) <= 70) & (y > neck) & (y <= crown))
     z = np.where(body, PLANE_MM, 0).astype(np.float32)
     mask = body.copy()
