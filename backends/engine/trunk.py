@@ -179,8 +179,8 @@ class BodyEstimator:
 
     @staticmethod
     def _top(y: np.ndarray, cells: np.ndarray) -> float | None:
-        """Height (mm) of the highest row with two or more of the cells (one is noise)."""
-        rows = np.flatnonzero(cells.sum(axis=1) >= 2)
+        """Height (mm) of the highest row with two or more of the cells."""
+        rows = _rows_held(cells)
         if rows.size == 0:
             return None
         return float(median(y[rows[0]][cells[rows[0]]]))
@@ -224,6 +224,12 @@ def _padding(box: tuple[slice, slice], shape: tuple[int, int], margin: int) -> t
             min(margin, cols.start), min(margin, shape[1] - cols.stop))
 
 
+def _rows_held(cells: np.ndarray) -> np.ndarray:
+    """The rows holding two or more of the cells, top to bottom (one cell is noise): where a
+    silhouette's top and bottom are looked for."""
+    return np.flatnonzero(np.count_nonzero(cells, axis=1) >= 2)
+
+
 def _height_above_feet(seg: Segment, crown: float) -> float | None:
     """The crown's height (mm) above the user's feet when no floor is in view but the feet are (a
     recording with its background removed): the user's lowest cells lie clear of the picture's
@@ -233,7 +239,7 @@ def _height_above_feet(seg: Segment, crown: float) -> float | None:
     trousers a depth camera reads nothing from), or someone seated at a desk too near the camera to
     read: a body cut off there would be taken for a child's."""
     g, mask = seg.grid, seg.mask
-    rows = np.flatnonzero(np.count_nonzero(mask, axis=1) >= 2)  # one cell is noise
+    rows = _rows_held(mask)
     if rows.size == 0 or rows[-1] >= mask.shape[0] - BEYOND_USER:
         return None
     bottom, columns = rows[-1], np.flatnonzero(mask.any(axis=0))
