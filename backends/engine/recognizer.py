@@ -134,26 +134,34 @@ class _HandTrack:
         self.strokes = {a: AxisStrokes(a, r.stroke_hysteresis_mm, r.stroke_stop_s) for a in (X, Y, Z)}
         self.rhythm = Rhythm(r)
 
-    def joined(self, stroke: Stroke) -> Stroke | None:
-        """The stroke to judge, or None for a reversal of a frame or two (a tracker's jitter), held
-        back: when the hand then goes on the way it went before, the stroke continues that one, which
-        is taken back from the runs and pending swipes it joined."""
+    def joined(self, stroke: Stroke) -> list[Stroke]:
+        """The strokes to judge. A reversal of a frame or two is held back: a tracker's jitter or a
+        quick swing? When the hand then goes on the way it went before, beyond where it turned, it
+        was jitter: the stroke continues that one, which is taken back from the runs and pending
+        swipes it joined. When the hand only comes back about as far after a reversal of at least
+        `oscillation_min_travel_mm` (a wave's swing seen in two frames), it was a motion: both are
+        judged, in order."""
         axis = stroke.axis
         jitter = self.jitter.pop(axis, None)
         if stroke.duration <= self.rules.stroke_min_reversal_s:
             self.jitter[axis] = stroke
-            return None
+            return []
         before = self.last.get(axis)
-        if (jitter is not None and before is not None and before.direction == stroke.direction
-                and before.end is jitter.start and jitter.end is stroke.start):
-            stroke = Stroke(axis, stroke.direction, before.samples + jitter.samples[1:] + stroke.samples[1:])
-            for run in (self.chains[axis], self.waving):
-                if run and run[-1] is before:
-                    run.pop()
-            if self.pending.get(axis) is before:
-                del self.pending[axis]
         self.last[axis] = stroke
-        return stroke
+        if (jitter is None or before is None or before.direction != stroke.direction
+                or before.end is not jitter.start or jitter.end is not stroke.start):
+            return [stroke]
+        if (jitter.travel >= self.rules.oscillation_min_travel_mm and stroke.direction * float(
+                stroke.end.p[axis] - before.end.p[axis]) < self.rules.stroke_hysteresis_mm):
+            return [jitter, stroke]
+        stroke = Stroke(axis, stroke.direction, before.samples + jitter.samples[1:] + stroke.samples[1:])
+        for run in (self.chains[axis], self.waving):
+            if run and run[-1] is before:
+                run.pop()
+        if self.pending.get(axis) is before:
+            del self.pending[axis]
+        self.last[axis] = stroke
+        return [stroke]
 
     def sample(self, t: float, p: np.ndarray, shoulder: float, face: np.ndarray, world: Vec3, body_vy: float) -> Sample:
         """The new sample with its velocity over the speed window, kept in a short history."""
@@ -290,14 +298,13 @@ class _Hand:
     def step(self, s: Sample) -> None:
         for axis in (X, Y, Z):
             done = self.tr.strokes[axis].update(s)
-            if done is not None:
-                done = self.tr.joined(done)
-            if done is not None:
-                reversed_ = self.tr.strokes[axis].direction != 0
+            judged = self.tr.joined(done) if done is not None else []
+            for i, stroke in enumerate(judged):
+                reversed_ = i < len(judged) - 1 or self.tr.strokes[axis].direction != 0
                 if axis == Z:
-                    self.click(done)
+                    self.click(stroke)
                 else:
-                    self.stroke_ended(done, reversed_)
+                    self.stroke_ended(stroke, reversed_)
         self.rhythmic_wave(s)
         self.swipe_under_way()
         self.resolve_all()

@@ -25,7 +25,8 @@ class GestureRules(BaseModel):
         0.12, gt=0, description="a stroke ends when its extreme has not advanced for this long (the hand stopped)")
     stroke_min_reversal_s: float = Field(
         0.07, ge=0, description="a reversal that lasts no longer than this (two frames at 30 Hz) before the hand "
-        "goes on its way again is a tracker's jitter, not a motion: the strokes either side of it are one")
+        "goes on its way again, beyond where it turned, is a tracker's jitter, not a motion: the strokes either "
+        "side of it are one (a hand coming back only as far made a quick swing)")
     track_gap_s: float = Field(
         0.1, gt=0, description="a hand not reported for longer than this (three frames at 30 Hz) left a gap: "
         "where it went meanwhile is unknown")

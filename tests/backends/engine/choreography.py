@@ -227,14 +227,16 @@ def sweeps(times: int = 4, travel: float = 600.0, seconds: float = 0.7) -> Perfo
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 
 
-def wave(swings: int = 6, amplitude: float = 240.0, half_period: float = 0.2, height: float = 450.0,
-         rise_s: float = 0.6) -> Performance:
-    """The right hand raised beside the head in `rise_s`, swinging side to side `swings` times."""
+def wave(swings: int = 6, amplitude: float = 240.0, half_period: float | tuple[float, ...] = 0.2,
+         height: float = 450.0, rise_s: float = 0.6) -> Performance:
+    """The right hand raised beside the head in `rise_s`, swinging side to side `swings` times, each
+    swing lasting `half_period` (or the swings lasting the durations given, one each)."""
+    durations = half_period if isinstance(half_period, tuple) else (half_period,) * swings
     centre = (250.0, height, -350.0)
     right = rest(Side.RIGHT).hold(0.3).then(rise_s, (centre[0] + amplitude / 2, height, centre[2]))
-    for i in range(swings):
+    for i, duration in enumerate(durations):
         x = centre[0] + (amplitude / 2 if i % 2 else -amplitude / 2)
-        right = right.then(half_period, (x, height, centre[2]))
+        right = right.then(duration, (x, height, centre[2]))
     right = right.hold(0.2).then(0.8, REST[Side.RIGHT])
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 

@@ -166,6 +166,14 @@ def test_a_swipe_with_a_tracker_glitch_is_still_one_swipe():
     assert completed(perform(c.jittered(swipe, Side.RIGHT, middle, jump=(120.0, 0.0, 0.0)))) == ["swipe_left"]
 
 
+def test_a_waves_swing_seen_in_two_frames_is_a_swing_not_a_glitch():
+    """A reversal of two frames followed by a stroke that only comes back to where the hand turned is
+    a quick swing, not a tracker's glitch (after which the hand carries on its way): a taller
+    performer's wave in UTD-MHAD's depth had a 266 mm swing seen in two frames, and was lost."""
+    assert completed(perform(c.wave(amplitude=250.0, half_period=(0.2, 0.067, 0.2, 0.2)))) == ["wave"]
+    assert completed(perform(c.wave(amplitude=250.0, half_period=(0.2, 0.2, 0.2, 0.2)))) == ["wave"]
+
+
 def test_swiping_back_and_forth_slower_than_a_wave_gives_swipes_and_no_wave():
     """Each sweep is a swipe (MSRC-12's 'push right', repeated without a pause, looks like this)."""
     assert completed(perform(c.sweeps(times=4))) == ["swipe_left", "swipe_right"] * 2
