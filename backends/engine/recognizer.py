@@ -622,7 +622,8 @@ class _Hand:
             return
         k = self.rec.size(first.start)
         amplitude = float(np.median([s.travel for s in run]))
-        if amplitude < self.r.wave_min_typical_amplitude_mm * k or np.median([s.duration for s in run]) < self.r.wave_min_swing_s:
+        if (amplitude < self.r.wave_min_typical_amplitude_mm * k or np.median([s.duration for s in run]) < self.r.wave_min_swing_s
+                or max(s.highest - s.start.shoulder for s in run) < -self.r.wave_top_below_shoulder_mm * k):
             return
         confidence = _confidence(_margin(amplitude, self.r.wave_min_typical_amplitude_mm * k),
                                  min(1.0, reversals / (2 * self.r.wave_min_reversals)))

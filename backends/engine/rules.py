@@ -145,6 +145,10 @@ class GestureRules(BaseModel):
     wave_max_below_shoulder_mm: float = Field(
         150.0, description="every swing of a wave reaches no lower than this below the shoulders: in "
         "front of the chest or higher (a hand swinging at the hip while walking is no wave)")
+    wave_top_below_shoulder_mm: float = Field(
+        30.0, description="and the highest swing reaches the shoulders, or no lower than this below them "
+        "(for an adult, scaled to the performer's size): Kinder-Gator's adults wave no lower than 20 mm "
+        "under them, an arm swinging across the chest while jogging stays 70-130 mm under")
     # a wave told by its rhythm (rhythm.py): swings too small for strokes, from the wrist or the fingers
     wave_rhythm_hysteresis_mm: float = Field(
         6.0, gt=0, description="a wave's side-to-side swing, however small, turns once the hand comes back "
