@@ -155,14 +155,14 @@ class _HandTrack:
         if (jitter.travel >= self.rules.oscillation_min_travel_mm and stroke.direction * float(
                 stroke.end.p[axis] - before.end.p[axis]) < self.rules.stroke_hysteresis_mm):
             return [jitter, stroke]
-        stroke = Stroke(axis, stroke.direction, before.samples + jitter.samples[1:] + stroke.samples[1:])
+        merged = Stroke(axis, stroke.direction, before.samples + jitter.samples[1:] + stroke.samples[1:])
         for run in (self.chains[axis], self.waving):
             if run and run[-1] is before:
                 run.pop()
         if self.pending.get(axis) is before:
             del self.pending[axis]
-        self.last[axis] = stroke
-        return [stroke]
+        self.last[axis] = merged
+        return [merged]
 
     def sample(self, t: float, p: np.ndarray, shoulder: float, face: np.ndarray, world: Vec3, body_vy: float) -> Sample:
         """The new sample with its velocity over the speed window, kept in a short history."""
@@ -628,8 +628,9 @@ class _Hand:
             return
         k = self.rec.size(first.start)
         amplitude = float(np.median([s.travel for s in run]))
-        if (amplitude < self.r.wave_min_typical_amplitude_mm * k or np.median([s.duration for s in run]) < self.r.wave_min_swing_s
-                or max(s.highest - s.start.shoulder for s in run) < -self.r.wave_top_below_shoulder_mm * k):
+        top = max(s.highest - s.start.shoulder for s in run)
+        if (amplitude < self.r.wave_min_typical_amplitude_mm * k or top < -self.r.wave_top_below_shoulder_mm * k
+                or np.median([s.duration for s in run]) < self.r.wave_min_swing_s):
             return
         confidence = _confidence(_margin(amplitude, self.r.wave_min_typical_amplitude_mm * k),
                                  min(1.0, reversals / (2 * self.r.wave_min_reversals)))
