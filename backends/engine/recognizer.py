@@ -39,8 +39,7 @@ Each gesture is reported IN_PROGRESS (at most once per attempt) when it is recog
 way (a swipe: once its stroke has ended and waits for confirmation; a wave: one reversal before
 it completes; a click: while the hand moves forward fast enough; a raise: half way through the
 hold) and COMPLETE once; after a COMPLETE the hand has a refractory period (its return is no
-gesture), which a raise ends after a swipe up (the hand held up where the swipe took it) and a
-wave ignores (three swings or more are no return).
+gesture), which a raise ends after a swipe up: the hand held up where the swipe took it.
 """
 from __future__ import annotations
 
@@ -276,9 +275,9 @@ class _Hand:
         if native is None:
             return False
         if state is GestureState.COMPLETE:
-            # a raise completes in it after a swipe up: the hand held up where the swipe took it
+            # the refractory period swallows a stroke's return, not the hand held up where a swipe up took it
             held_up = name == "hand_raise" and self.tr.last_complete == "swipe_up"
-            if self.in_refractory(name) and not held_up:
+            if self.t < self.tr.refractory_until and not held_up:
                 return False
             self.tr.refractory_until = self.t + self.r.refractory_s
             self.tr.last_complete = name
@@ -287,14 +286,9 @@ class _Hand:
                                    self.hand.side, float(np.clip(confidence, 0.0, 1.0)), self.t))
         return True
 
-    def in_refractory(self, name: str) -> bool:
-        """Does the hand's refractory period swallow `name` now? It swallows a stroke's return, never a
-        wave (three swings or more are no return), which may follow a swipe at once."""
-        return self.t < self.tr.refractory_until and name != "wave"
-
     def announce(self, name: str, key: object, confidence: float, at: Sample) -> None:
         """IN_PROGRESS, once per attempt (`key` names the attempt, e.g. the stroke's start time)."""
-        if (name, key) not in self.tr.announced and not self.in_refractory(name):
+        if (name, key) not in self.tr.announced and self.t >= self.tr.refractory_until:
             if len(self.tr.announced) >= 64:  # attempts that old are long over
                 self.tr.announced.clear()
             self.tr.announced.add((name, key))

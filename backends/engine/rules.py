@@ -230,7 +230,7 @@ class GestureRules(BaseModel):
     refractory_s: float = Field(
         0.6, ge=0, description="after a COMPLETE gesture the same hand completes no other for this long "
         "(the return of a swipe or a push is not a gesture), but a hand raise after a swipe up (the hand held "
-        "up where the swipe took it) and a wave (three swings or more are no return)")
+        "up where the swipe took it)")
     forget_after_s: float = Field(
         0.5, gt=0, description="a hand not reported for this long is forgotten (a LOST hand at once)")
 

@@ -166,20 +166,6 @@ def test_a_swipe_with_a_tracker_glitch_is_still_one_swipe():
     assert completed(perform(c.jittered(swipe, Side.RIGHT, middle, jump=(120.0, 0.0, 0.0)))) == ["swipe_left"]
 
 
-def test_waving_straight_after_a_swipe_is_a_wave_the_swipes_refractory_period_does_not_swallow_it():
-    """The refractory period swallows a swipe's return, not the wave that follows it at once (a whole-arm
-    wave's first swing, swept out across, may complete as a swipe: UTD-MHAD s4's, seen from farther away,
-    then lost its wave)."""
-    start, end = (-50.0, RAISED[1], RAISED[2]), (450.0, RAISED[1], RAISED[2])  # swept out from the chest
-    back = (210.0, RAISED[1], RAISED[2])
-    right = c.rest(Side.RIGHT).hold(0.3).then(0.6, start).hold(0.3).then(0.4, end)
-    for to in (back, end, back, end):
-        right = right.then(0.15, to)
-    right = right.hold(0.3).then(0.8, c.REST[Side.RIGHT])
-    performance = c.Performance({Side.LEFT: c.rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
-    assert completed(perform(performance)) == ["swipe_right", "wave"]
-
-
 def test_a_waves_swing_seen_in_two_frames_is_a_swing_not_a_glitch():
     """A reversal of two frames followed by a stroke that only comes back to where the hand turned is
     a quick swing, not a tracker's glitch (after which the hand carries on its way): a taller
