@@ -48,11 +48,6 @@ class TrackerOptions(BaseModel):
         "a hand seen apart from its arm (no depth-continuous join to the body: a whole arm swinging across "
         "the face) within this of a tracked hand's find and farther out is that hand, the find nearer the "
         "body its forearm: a forearm's length"))
-    established_s: float = Field(0.1, ge=0, description=(
-        "a hand followed this long, the only one on its side, missed in a frame where a candidate farther "
-        "out shows on that side, is that hand moved beyond the gate (a frame the camera dropped: a whole "
-        "arm swinging seems to jump 400 mm); a younger track's first find may have been another part of "
-        "the body"))
     match_max_gap_s: float = Field(0.1, gt=0, description="the gate stops growing after this long unseen: "
                                    "a hand that reappears far away is a new hand")
     other_arm_mm: float = Field(100, ge=0, description=(
@@ -169,24 +164,19 @@ class HandTracker:
 
     def _follow(self, t: float, matched: dict[_Track, Candidate]) -> None:
         """Move the matched tracks to their candidates; a track seen once and not again is noise."""
+        o = self.options
         for track, cand in matched.items():
-            self._move(t, track, cand)
+            track.seen, track.at_border, track.confidence = t, cand.at_border, cand.confidence
+            track.reach, track.found = cand.reach, cand.position
+            track.position = track.filter(t, cand.position) + o.predict_s * track.filter.velocity
+            track.confirmed = track.confirmed or t - track.born >= o.confirm_s
         for track in [tr for tr in self._tracks if not tr.confirmed and tr not in matched]:
             self._tracks.remove(track)  # a candidate seen once and not again: noise, never reported
-
-    def _move(self, t: float, track: _Track, cand: Candidate) -> None:
-        """The track's hand is now at the candidate."""
-        o = self.options
-        track.seen, track.at_border, track.confidence = t, cand.at_border, cand.confidence
-        track.reach, track.found = cand.reach, cand.position
-        track.position = track.filter(t, cand.position) + o.predict_s * track.filter.velocity
-        track.confirmed = track.confirmed or t - track.born >= o.confirm_s
 
     def _admit(self, t: float, free: list[Candidate], matched: dict[_Track, Candidate],
                torso: np.ndarray | None, mirrored: bool) -> list[Hand]:
         """New tracks for the unmatched candidates (farthest reach first) that are hands, not
-        another part of an arm in view nor the hand of an arm followed a while, found beyond the gate;
-        the LOST hands of the tracks they replace."""
+        another part of an arm in view; the LOST hands of the tracks they replace."""
         o = self.options
         out: list[Hand] = []
         for cand in free:
@@ -195,10 +185,6 @@ class HandTracker:
             in_view = [tr for tr in same if t - tr.seen <= o.hold_s]
             if any(cand.reach <= tr.reach for tr in in_view):
                 continue  # on the side of a hand in view, nearer the body: another part of that arm
-            if len(in_view) == 1 and in_view[0] not in matched and t - in_view[0].born >= o.established_s:
-                self._move(t, in_view[0], cand)  # that arm's hand, farther out than the gate reaches
-                matched[in_view[0]] = cand
-                continue
             for old in same:  # that side's hand, out of sight for a while, is found elsewhere: a new hand
                 if old not in in_view:
                     out.extend(self._drop(old))
