@@ -122,7 +122,7 @@ class DepthVariation:
     farther_mm: float = 0.0  # every reading re-projected this much farther away (a smaller image)
     aside_mm: float = 0.0  # and this much to the image's right: a performer off the camera's axis
     scale: float = 1.0  # a smaller or taller performer: every reading scaled about the spine joint
-    tempo: float = 1.0  # > 1: the same performance, faster (frames skipped at the same frame rate)
+    tempo: float = 1.0  # < 1: the same performance in that share of its time, faster (frames skipped at the same rate)
     stretch: float = 1.0  # > 1: the same frames over a longer time (slower, seen at a lower frame rate)
     left_handed: bool = False  # the mirror image: the other arm does it, swipes go the other way
     kinect_noise: float = 0.0  # extra depth noise, in units of a Kinect v1's (sigma = 1.425e-6 z^2 mm)
@@ -136,7 +136,7 @@ class DepthVariation:
     def apply(self, clip, rng: np.random.Generator) -> dict[str, np.ndarray]:
         """The clip's arrays (the depth clip format of docs/architecture.md) as this performer would give them."""
         kept = len(clip) - int(round(self.ends_sooner_s * clip.fps))
-        index = np.clip(np.round(np.arange(0, kept, self.tempo)).astype(int), 0, kept - 1)
+        index = np.clip(np.round(np.arange(0, kept, 1 / self.tempo)).astype(int), 0, kept - 1)
         k = clip.intrinsics
         spines = clip.body[:, 1] if clip.body is not None else np.zeros((len(clip), 3))
         depth = np.stack([self._frame(clip.depth[i], k, spines[i], rng) for i in index])
@@ -187,7 +187,7 @@ DEPTH_VARIATIONS = {
     "0.7 m farther": DepthVariation(farther_mm=700), "1.4 m farther": DepthVariation(farther_mm=1400),
     "0.85x size": DepthVariation(scale=0.85), "1.15x size": DepthVariation(scale=1.15),
     "0.5 m off the camera's axis": DepthVariation(aside_mm=500),
-    "faster (0.7x time)": DepthVariation(tempo=1 / 0.7),
+    "faster (0.7x time)": DepthVariation(tempo=0.7),
     "slower (1.4x time, 21 fps)": DepthVariation(stretch=1.4),
     "left-handed (mirror image)": DepthVariation(left_handed=True),
     "Kinect noise x2, 3 % holes": DepthVariation(kinect_noise=2, holes=0.03),
