@@ -26,6 +26,7 @@ from __future__ import annotations
 import glob
 import json
 import re
+import sys
 from collections import Counter, defaultdict
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field, replace
@@ -321,6 +322,8 @@ def main() -> None:
         p.add_argument("--no-lopo", action="store_true", help="only the default rules, no leave-one-person-out")
         p.add_argument("--variations", action="store_true",
                        help="also the default rules on the recordings varied as unseen performers (size, tempo, jitter)")
+        p.add_argument("--plot", type=Path, metavar="FILE.png",
+                       help="also draw every person's recall of every gesture, per dataset (PNG)")
     args = parse_args("Gestures of real people, per person, with leave-one-person-out choices.", extra, data=True)
     if data_set(args, "msrc12-dev", "every row (UTD-MHAD, MSRC-12 and Kinder-Gator people)") is None:
         return
@@ -329,6 +332,10 @@ def main() -> None:
         print(json.dumps(out))
     else:
         print_tables(out)
+    if args.plot:
+        from bench.person_plot import plot_people
+        plot_people(out, args.plot)
+        print(f"wrote {args.plot}", file=sys.stderr)
 
 
 if __name__ == "__main__":
