@@ -16,15 +16,10 @@ SECTIONS = {"default": "default rules", "leave_one_person_out": "rules chosen wi
 
 def _grid(fig: dict) -> tuple[list[str], list[str], np.ndarray]:
     """(gestures, persons, recall per gesture and person; NaN where the person did not perform it)."""
-    gestures = list(fig["by_person"])
-    persons = sorted({p for row in fig["by_person"].values() for p in row})
-    cells = np.full((len(gestures), len(persons)), np.nan)
-    for i, g in enumerate(gestures):
-        for j, p in enumerate(persons):
-            value = fig["by_person"][g].get(p)
-            if value is not None:
-                cells[i, j] = value
-    return gestures, persons, cells
+    rows = fig["by_person"]
+    persons = sorted({p for row in rows.values() for p in row})
+    cells = np.array([[np.nan if row.get(p) is None else row[p] for p in persons] for row in rows.values()], float)
+    return list(rows), persons, cells.reshape(len(rows), len(persons))
 
 
 def _label(recall: float) -> str:
