@@ -32,7 +32,8 @@ CORE = {
     "description": "what the show is, for the next person who opens the file",
     "source": 'where depth comes from: a name (`source = "synthetic"`) or a table with `name` and its options',
     "backend": "what finds hands and gestures: a name or a table with `name` and its options; `learned = "
-               "[\"file\", {file = \"...\", threshold = 0.3}]` adds learned gestures (docs/learned-gestures.md)",
+               "[\"file\", {file = \"...\", threshold = 0.3, loop = 0}]` adds learned gestures, each optionally "
+               "with its own threshold and loop check (docs/learned-gestures.md)",
     "effects": "the effect stack, composited in this order: `[[effects]]` tables with `name` and options",
     "output": "where the show goes (`[output]`)",
     "blend": "how this effect's layer is combined with the layers under it",

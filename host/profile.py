@@ -30,16 +30,18 @@ class PluginRef(BaseModel):
 
 
 class LearnedRef(BaseModel):
-    """A learned gesture in `[backend] learned`: a file, and optionally its own threshold."""
+    """A learned gesture in `[backend] learned`: a file, and optionally its own threshold and how
+    much a performance of a gesture taught as a loop must loop (host/learned/loops.py; 0: not checked)."""
 
     model_config = ConfigDict(extra="forbid")
     file: str
     threshold: float | None = Field(None, gt=0)
+    loop: float | None = Field(None, ge=0)
 
 
 class BackendRef(PluginRef):
     """The backend; `learned` lists learned-gesture files (relative to the profile) the host
-    recognises on its hands: `"file"` or `{file = "...", threshold = 0.3}`."""
+    recognises on its hands: `"file"` or `{file = "...", threshold = 0.3, loop = 0}`."""
 
     learned: list[str | LearnedRef] = []
 
@@ -237,6 +239,7 @@ def _learned(file: str, ref: BackendRef, base_dir: Path, problems: list[str]) ->
             continue
         if entry.threshold is not None:
             gesture.threshold = entry.threshold
+        gesture.loop = entry.loop
         out.append(gesture)
     return out
 

@@ -21,6 +21,8 @@ from host.errors import UserError
 from host.learned.examples import read_take
 from host.learned.gesture_file import LearnedGesture, load
 from host.learned.learner import far_off, learn, taught_before
+from host.learned.loops import LoopCheck
+from host.learned.matcher import taught_repetitions
 
 HELP = "learn a gesture from examples of it (CSV trajectories, .npz clips, .mcap recordings)"
 
@@ -48,6 +50,9 @@ def describe(g: LearnedGesture) -> str:
              f"({min(durations):.2f}-{max(durations):.2f} s), hands: {g.hands}",
              f"  threshold {g.threshold:.3f} (a performance must come this close; override per gesture in a "
              f"profile), completes {g.fires_at:.0%} of the way through"]
+    loops = LoopCheck([g], taught_repetitions([g])).describe(0)
+    if loops:
+        lines.append(f"  loops: {loops}; a performance must loop too (docs/learned-gestures.md)")
     if scores:
         lines.append(f"  consistency: each repetition's distance to the others of its example, "
                      f"median {np.median(scores):.3f}, worst {max(scores):.3f} (body units)")

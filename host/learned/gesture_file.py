@@ -46,6 +46,7 @@ class LearnedGesture:
     rate_hz: float = 15.0
     left_out: list[TaughtRepetition] = field(default_factory=list)  # found but not learned (odd length)
     found: dict[str, int] = field(default_factory=dict)  # repetitions found per example
+    loop: float | None = None  # a profile's override of how much a performance must loop (loops.py); not in the file
 
     def to_json(self) -> dict:
         return {

@@ -38,12 +38,13 @@ def registry():
     return r
 
 
-def test_a_profile_names_learned_files_relative_to_itself_with_a_threshold_of_its_own(roll, registry):
+def test_a_profile_names_learned_files_relative_to_itself_with_a_threshold_and_loop_of_its_own(roll, registry):
     text = f'[source]\nname = "clip"\npath = "x.npz"\n[backend]\nname = "truth"\n' \
-           f'learned = ["{roll.name}", {{ file = "{roll.name}", threshold = 0.42 }}]\n'
+           f'learned = ["{roll.name}", {{ file = "{roll.name}", threshold = 0.42, loop = 0 }}]\n'
     profile = parse(text, "show.toml", roll.parent, registry)
     assert [g.name for g in profile.learned] == ["roll", "roll"]
     assert profile.learned[0].threshold != 0.42 and profile.learned[1].threshold == 0.42
+    assert profile.learned[0].loop is None and profile.learned[1].loop == 0  # the roll's loop check off
     assert profile.backend.options.model_dump() == TruthBackend.Options().model_dump()  # not a backend option
 
 

@@ -1,0 +1,115 @@
+"""A gesture its teachers perform as a loop completes only on a motion that loops.
+
+The templates and the classifier (matcher.py, classifier.py) compare where the hands are and which
+way they head, instant by instant. Hands going up and down or back and forth in the same place pass
+both for a rolling gesture: on MSRC-12, taught by p01-p03, wind_it_up completed in the windows of
+77 of the 1467 instances of p04-p10's other gestures (shoot: 59, beat_both: 16), the largest source
+of false fires. None of those motions loops; the wind_it_up performances that were found do. The
+teachers never make that confusion, so nothing they taught tells the classifier to look for it:
+the loop is read from their repetitions instead (bench/learned.py gives the figures).
+
+Loopiness of a hand in a plane: the area its path sweeps round its own centre, over the area of
+the ellipse its spread spans (2 pi sd_a sd_b). About 1 for a circle drawn once round, either way
+round; near 0 for a line or a path that comes back the way it went. A learned gesture loops in each (hand, plane) of the hands it uses where its median
+repetition, over the last WINDOW postures before the point where it completes, loops at least
+LOOPS, if the hands go round that loop: in a quarter of the repetitions at least, a hand comes
+back round to within the loop's radius of where it was, having enclosed that much
+(`closed_loopiness`). An arc is not such a loop: MSRC-12's p01 and p03 bring their hands up to the
+eyes for goggles along an arc that sweeps round its centre as much as a loop does, and p02's
+goggles, straight up, must still be goggles.
+
+A performance completes a looping gesture only if, in one of those (hand, plane)s, the motion its
+best template has matched loops at least `loop` (AS_MUCH unless a profile says otherwise; 0 turns
+the check off). One hand is enough: a performer rolling one arm at a time. The motion read is the
+same share of the match as the window is of the taught repetition: the last WINDOW postures for a
+performer as fast as the teachers, fewer for a faster one, so a quick performer's rest and next
+repetition are not read as part of the loop. Gestures whose repetitions do not loop (a punch, a
+beat, goggles) are not checked.
+"""
+from __future__ import annotations
+
+from typing import Callable, Sequence
+
+import numpy as np
+
+from host.learned.gesture_file import LearnedGesture
+
+PLANE_NAMES = ("x-y", "y-z", "x-z")  # as the camera sees it, side on, from above
+WINDOW = 20  # postures (1.3 s at 15 Hz) of a taught repetition, up to where it completes, read for loops
+LOOPS = 0.45  # a (hand, plane) where the median taught repetition loops at least this much is a loop
+AS_MUCH = 0.3  # ... in which a performance must loop at least this much (a profile may override it)
+MIN_SEEN = 6  # postures: a shorter match is too little of the motion to tell a loop
+_SMALL = 0.02  # body units squared: a hand still along one axis encloses nothing, not 0/0
+
+
+def _planes(postures: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each hand's path in each plane about its centre: the planes' first and second axes, (n, 6)
+    each, left hand x-y, y-z, x-z then the right's."""
+    p = np.asarray(postures, float)
+    p = p - p.mean(axis=0)
+    return p[:, [0, 1, 0, 3, 4, 3]], p[:, [1, 2, 2, 4, 5, 5]]
+
+
+def loopiness(postures: np.ndarray) -> np.ndarray:
+    """Postures (n, 6) -> (6,): how much the left hand loops in x-y, y-z and x-z, then the right:
+    the area its path sweeps round its centre over the area of the ellipse its spread spans."""
+    a, b = _planes(postures)
+    swept = 0.5 * np.abs(np.sum(a[:-1] * b[1:] - a[1:] * b[:-1], axis=0))
+    return swept / (2 * np.pi * a.std(axis=0) * b.std(axis=0) + _SMALL)
+
+
+def closed_loopiness(postures: np.ndarray) -> np.ndarray:
+    """Like `loopiness`, but of the largest loop the hand has gone round and closed at the last
+    posture: the path from an earlier posture (at least MIN_SEEN back) that the hand has come back
+    to, within the loop's radius (the root of its summed variances), closed by the chord between
+    them. 0 where the hand has not come back round."""
+    a, b = _planes(postures)
+    count = np.arange(len(a), 0, -1.0)[:, None]  # postures from each start to the end
+
+    def from_each_start(values: np.ndarray) -> np.ndarray:  # sums of values[s:] for every start s
+        return np.cumsum(values[::-1], axis=0)[::-1]
+
+    along = np.vstack([from_each_start(a[:-1] * b[1:] - a[1:] * b[:-1]), np.zeros((1, 6))])
+    area = 0.5 * np.abs(along + a[-1] * b - a * b[-1])
+    var_a = np.maximum(from_each_start(a * a) / count - (from_each_start(a) / count) ** 2, 0.0)
+    var_b = np.maximum(from_each_start(b * b) / count - (from_each_start(b) / count) ** 2, 0.0)
+    back = (count >= MIN_SEEN) & (np.hypot(a[-1] - a, b[-1] - b) <= np.sqrt(var_a + var_b))
+    return np.where(back, area / (2 * np.pi * np.sqrt(var_a * var_b) + _SMALL), 0.0).max(axis=0)
+
+
+class LoopCheck:
+    """Per learned gesture, the loops its teachers drew (`taught`, (gestures, 6): the median
+    loopiness where it is a loop, else 0) and how much a performance must loop there (`need`)."""
+
+    def __init__(self, gestures: Sequence[LearnedGesture], taught: list[list[np.ndarray]]) -> None:
+        """taught[g]: gesture g's repetitions at RATE_HZ (matcher.taught_repetitions)."""
+        self.taught = np.zeros((len(gestures), 6))
+        self.share = np.ones(len(gestures))  # how much of a matched motion's end is read
+        for g, (gesture, reps) in enumerate(zip(gestures, taught)):
+            prefixes = [r[:max(2, int(round(gesture.fires_at * len(r))))] for r in reps]  # as the templates
+            median = np.median([loopiness(p[-WINDOW:]) for p in prefixes], axis=0)
+            gone_round = np.percentile([closed_loopiness(p[-WINDOW:]) for p in prefixes], 75, axis=0)
+            used = [c for h, side in enumerate(("left", "right")) if gesture.hands in (side, "both")
+                    for c in range(3 * h, 3 * h + 3)]
+            loops = [c for c in used if median[c] >= LOOPS]
+            if any(gone_round[c] >= LOOPS for c in loops):  # a loop the hands go round, not an arc
+                self.taught[g, loops] = median[loops]
+            self.share[g] = float(np.median([min(1.0, WINDOW / len(p)) for p in prefixes]))
+        self.need = np.array([AS_MUCH if g.loop is None else g.loop for g in gestures])
+        self.checked = (self.taught > 0).any(axis=1) & (self.need > 0)
+
+    def passes(self, matched: Callable[[int], np.ndarray]) -> np.ndarray:
+        """(gestures,) bool: not a looping gesture, or the motion `matched(g)` (postures (n, 6)) that
+        gesture g's best template has matched loops as its teachers' did."""
+        out = ~self.checked
+        for g in np.flatnonzero(self.checked):
+            motion = matched(g)
+            motion = motion[-max(MIN_SEEN, int(round(self.share[g] * len(motion)))):]
+            if len(motion) >= MIN_SEEN:
+                out[g] = bool(np.any((self.taught[g] > 0) & (loopiness(motion) >= self.need[g])))
+        return out
+
+    def describe(self, g: int) -> str:
+        """Gesture g's loops in words ("left hand x-y 0.75, right hand y-z 0.64"), "" for none."""
+        return ", ".join(f"{side} hand {PLANE_NAMES[c % 3]} {self.taught[g, c]:.2f}"
+                         for c in np.flatnonzero(self.taught[g] > 0) for side in [("left", "right")[c // 3]])

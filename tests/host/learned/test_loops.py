@@ -1,0 +1,73 @@
+"""The loop check (host/learned/loops.py): a gesture taught as a loop completes only on a loop."""
+from __future__ import annotations
+
+import numpy as np
+
+from host.learned.gesture_file import LearnedGesture
+from host.learned.loops import WINDOW, LoopCheck, closed_loopiness, loopiness
+from tests.host.learned.performer import REST, circle, punch
+
+
+def _repetition(motion, n: int = 25) -> np.ndarray:
+    """One repetition at 15 Hz as postures (n, 6): left x y z, right x y z."""
+    return np.array([motion(u).ravel() for u in np.linspace(0.0, 1.0, n)])
+
+
+def _rolling(turns: float, n: int = WINDOW) -> np.ndarray:
+    """Hands rolling round each other in front of the chest, `turns` times (negative: the other way)."""
+    a = 2 * np.pi * turns * np.linspace(0.0, 1.0, n)
+    left = np.column_stack([-0.15 + 0.2 * np.cos(a), 0.1 + 0.2 * np.sin(a), np.full(n, -0.6)])
+    right = np.column_stack([0.15 - 0.2 * np.cos(a), 0.1 - 0.2 * np.sin(a), np.full(n, -0.6)])
+    return np.hstack([left, right])
+
+
+def _gesture(hands: str, loop: float | None = None) -> LearnedGesture:
+    return LearnedGesture("g", hands, 0.5, 0.75, np.ones(6), loop=loop)
+
+
+def test_loopiness_is_near_one_for_a_circle_either_way_round_and_zero_for_a_line():
+    once = loopiness(_rolling(1.0))
+    assert 0.8 < once[0] < 1.1 and 0.8 < once[3] < 1.1  # each hand, x-y: its own circle once round
+    assert np.allclose(loopiness(_rolling(-1.0)), once)
+    line = _rolling(1.0)
+    line[:, [1, 4]] = 0.1  # the same sideways motion without the rise: back and forth
+    assert np.all(loopiness(line) < 0.05)
+
+
+def _arc(n: int = 25) -> np.ndarray:
+    """Both hands brought up to the eyes along half a circle, side on (y-z), and held there."""
+    a = np.pi * np.clip(np.linspace(0.0, 1.3, n), 0.0, 1.0)
+    hand = np.column_stack([np.zeros(n), -0.35 * np.cos(a) + 0.3, -0.4 - 0.35 * np.sin(a)])
+    return np.hstack([hand + [-0.1, 0.0, 0.0], hand + [0.1, 0.0, 0.0]])
+
+
+def test_an_arc_encloses_as_much_as_a_loop_but_does_not_go_round():
+    assert loopiness(_arc()[:19])[1] > 0.45  # sweeping round its centre, the half circle is a loop of sorts ...
+    assert closed_loopiness(_arc()[:19])[1] == 0.0  # ... that the hand never comes back round
+    assert closed_loopiness(_rolling(1.0))[0] > 0.8  # the roll does
+    check = LoopCheck([_gesture("both")], [[_arc()] * 3])
+    assert not check.checked[0]  # so a performer bringing the hands straight up is not held to the arc
+
+
+def test_a_gesture_taught_as_a_loop_asks_for_one_and_a_punch_asks_nothing():
+    check = LoopCheck([_gesture("both"), _gesture("right")], [[_repetition(circle)] * 3, [_repetition(punch)] * 3])
+    assert check.taught[0, 0] > 0.45 and "left hand x-y" in check.describe(0)  # the circle, where it rolls
+    assert not check.taught[1].any() and check.describe(1) == ""  # out and back the same way: no loop
+    still = np.zeros((WINDOW, 6))
+    sideways = _rolling(1.0)
+    sideways[:, [1, 4]] = 0.1
+    for motion, expected in ((_rolling(1.0), [True, True]), (_rolling(-1.0), [True, True]),
+                             (still, [False, True]), (sideways, [False, True]),
+                             (_rolling(1.0)[:3], [False, True])):  # too little seen to tell
+        assert list(check.passes(lambda g: motion)) == expected
+
+
+def test_one_looping_hand_is_enough_and_a_profile_may_turn_the_check_off():
+    reps = [[_repetition(circle)] * 3]
+    one_arm = _rolling(1.0)
+    one_arm[:, 3:] = REST[1]  # the right hand hangs at rest
+    assert LoopCheck([_gesture("both")], reps).passes(lambda g: one_arm)[0]
+    line = np.zeros((WINDOW, 6))
+    line[:, 0] = np.linspace(-0.3, 0.3, WINDOW)
+    assert not LoopCheck([_gesture("both")], reps).passes(lambda g: line)[0]
+    assert LoopCheck([_gesture("both", loop=0.0)], reps).passes(lambda g: line)[0]
