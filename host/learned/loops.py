@@ -8,15 +8,15 @@ of false fires. None of those motions loops; the wind_it_up performances that we
 teachers never make that confusion, so nothing they taught tells the classifier to look for it:
 the loop is read from their repetitions instead (bench/learned.py gives the figures).
 
-Loopiness of a hand in a plane: the area its path sweeps round its own centre, over the area of
-the ellipse its spread spans (2 pi sd_a sd_b). About 1 for a circle drawn once round, either way
-round; near 0 for a line or a path that comes back the way it went. A learned gesture loops in each (hand, plane) of the hands it uses where its median
-repetition, over the last WINDOW postures before the point where it completes, loops at least
-LOOPS, if the hands go round that loop: in a quarter of the repetitions at least, a hand comes
-back round to within the loop's radius of where it was, having enclosed that much
-(`closed_loopiness`). An arc is not such a loop: MSRC-12's p01 and p03 bring their hands up to the
-eyes for goggles along an arc that sweeps round its centre as much as a loop does, and p02's
-goggles, straight up, must still be goggles.
+Loopiness of a hand in a plane: the area its path sweeps round its own centre, over the area of the
+ellipse its spread spans (2 pi sd_a sd_b). About 1 for a circle drawn once round, either way round;
+near 0 for a line or a path that comes back the way it went. A learned gesture loops in each (hand,
+plane) of the hands it uses where its median repetition, over the last WINDOW postures before the
+point where it completes, loops at least LOOPS, if the hands go round that loop: in a quarter of the
+repetitions at least, a hand comes back round to within the loop's radius of where it was, having
+enclosed that much (`closed_loopiness`). An arc is not such a loop: MSRC-12's p01 and p03 bring
+their hands up to the eyes for goggles along an arc that sweeps round its centre as much as a loop
+does, and p02's goggles, straight up, must still be goggles.
 
 A performance completes a looping gesture only if, in one of those (hand, plane)s, the motion its
 best template has matched loops at least `loop` (AS_MUCH unless a profile says otherwise; 0 turns
@@ -111,5 +111,5 @@ class LoopCheck:
 
     def describe(self, g: int) -> str:
         """Gesture g's loops in words ("left hand x-y 0.75, right hand y-z 0.64"), "" for none."""
-        return ", ".join(f"{side} hand {PLANE_NAMES[c % 3]} {self.taught[g, c]:.2f}"
-                         for c in np.flatnonzero(self.taught[g] > 0) for side in [("left", "right")[c // 3]])
+        return ", ".join(f"{('left', 'right')[c // 3]} hand {PLANE_NAMES[c % 3]} {self.taught[g, c]:.2f}"
+                         for c in np.flatnonzero(self.taught[g] > 0))

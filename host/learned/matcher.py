@@ -21,11 +21,11 @@ threshold: 0.48 with 0.09; with AGREE 0.85 and no CLOSE tier: 0.63 with 0.075, a
 with 0.087 against 0.86 with 0.093). A gesture its teachers perform as a loop must also loop
 (loops.py, read on the motion its best template has matched): on p04-p10 the false fires fall to
 0.057 with the same recall, leave-one-teacher-out nothing changes. The threshold factor
-(learner.py), AGREE, CLOSE, SURE (and their ratios), HOLD, FRESH and the classifier's shifts were chosen there, as the highest recall
-with false fires no higher than before (people other than the teachers give about 1.2 to 1.3 times
-the teachers' false fires); bench/learned.py gives the figures, on the teachers and on p04-p10. All
-templates of all gestures sit in one array, so a frame costs a handful of numpy operations whatever
-their number.
+(learner.py), AGREE, CLOSE, SURE (and their ratios), HOLD, FRESH and the classifier's shifts were
+chosen there, as the highest recall with false fires no higher than before (people other than the
+teachers gave about 1.2 to 1.3 times the teachers' false fires before the loop check);
+bench/learned.py gives the figures, on the teachers and on p04-p10. All templates of all gestures
+sit in one array, so a frame costs a handful of numpy operations whatever their number.
 
 A gesture is IN_PROGRESS (said once per attempt) when a path has come UNDER_WAY of the way to its
 `fires_at` point with a score below the threshold; the attempt is over when it completes or when
