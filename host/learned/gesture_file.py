@@ -48,6 +48,10 @@ class LearnedGesture:
     found: dict[str, int] = field(default_factory=dict)  # repetitions found per example
     loop: float | None = None  # a profile's override of how much a performance must loop (loops.py); not in the file
 
+    def completes_at(self, postures: int) -> int:
+        """How many of a repetition's `postures` come before it completes: its template (matcher.py)."""
+        return max(2, int(round(self.fires_at * postures)))
+
     def to_json(self) -> dict:
         return {
             "format": FORMAT, "version": VERSION, "name": self.name, "hands": self.hands,

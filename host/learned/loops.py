@@ -86,7 +86,7 @@ class LoopCheck:
         self.taught = np.zeros((len(gestures), 6))
         self.share = np.ones(len(gestures))  # how much of a matched motion's end is read
         for g, (gesture, reps) in enumerate(zip(gestures, taught)):
-            prefixes = [r[:max(2, int(round(gesture.fires_at * len(r))))] for r in reps]  # as the templates
+            prefixes = [r[:gesture.completes_at(len(r))] for r in reps]
             median = np.median([loopiness(p[-WINDOW:]) for p in prefixes], axis=0)
             gone_round = np.percentile([closed_loopiness(p[-WINDOW:]) for p in prefixes], 75, axis=0)
             used = [c for h, side in enumerate(("left", "right")) if gesture.hands in (side, "both")

@@ -107,7 +107,7 @@ class Matcher:
         for gi, (g, reps) in enumerate(zip(gestures, taught)):
             typical.append(float(np.median([len(r) for r in reps])))
             for r in reps:
-                prefixes.append(motion(r)[:max(2, int(round(g.fires_at * len(r))))])
+                prefixes.append(motion(r)[:g.completes_at(len(r))])
                 owner.append(gi)
         self.owner = np.array(owner, int)
         m, k = len(prefixes), max((len(p) for p in prefixes), default=2)
@@ -133,7 +133,7 @@ class Matcher:
         self.classifier = classifier or (trained(taught) if classify and gestures else None)
         self.loops = LoopCheck(gestures, taught)
         self._history: deque[np.ndarray] = deque(maxlen=int(self.band[-1]) + 1)  # postures a path may span
-        self.began = np.zeros(len(gestures), np.int64)  # the tick each gesture's best path began
+        self._score = np.full(m, np.inf)  # each template's score at its `fires_at` point, this posture
         self.describer = Describer()
         self.running = np.zeros(len(gestures))  # postures templates and classifier have agreed
 
@@ -191,14 +191,14 @@ class Matcher:
         score = np.where(self._fresh(self.start[end]), self.cost[end] / self.steps[end], np.inf)
         per = np.full(len(self.gestures), np.inf)
         np.minimum.at(per, self.owner, score)
-        order = np.lexsort((score, self.owner))  # by gesture, best first
-        best = order[np.searchsorted(self.owner[order], np.arange(len(self.gestures)))]
-        self.began = self.start[best, self.end[best]]
+        self._score = score
         return per
 
     def _matched(self, gi: int) -> np.ndarray:
         """The postures gesture `gi`'s best path has matched so far (the motion the loop check reads)."""
-        seen = self.tick - self.began[gi]
+        rows = np.flatnonzero(self.owner == gi)
+        best = rows[np.argmin(self._score[rows])]
+        seen = self.tick - self.start[best, self.end[best]]
         return np.array(list(self._history)[-seen:]) if 0 < seen <= len(self._history) else np.zeros((0, 6))
 
     def _fresh(self, start: np.ndarray) -> np.ndarray:
