@@ -41,16 +41,17 @@ def _arc(n: int = 25) -> np.ndarray:
     return np.hstack([hand + [-0.1, 0.0, 0.0], hand + [0.1, 0.0, 0.0]])
 
 
-def test_an_arc_encloses_as_much_as_a_loop_but_does_not_go_round():
-    assert loopiness(_arc()[:19])[1] > 0.45  # sweeping round its centre, the half circle is a loop of sorts ...
-    assert closed_loopiness(_arc()[:19])[1] == 0.0  # ... that the hand never comes back round
+def test_an_arc_sweeps_round_as_much_as_a_loop_but_does_not_go_round():
+    assert loopiness(_arc()[:19])[1] > 0.45  # sweeping round its centre, a half circle is a loop of sorts
+    assert closed_loopiness(_arc()[:19])[1] == 0.0  # that the hand never comes back round
     assert closed_loopiness(_rolling(1.0))[0] > 0.8  # the roll does
     check = LoopCheck([_gesture("both")], [[_arc()] * 3])
     assert not check.checked[0]  # so a performer bringing the hands straight up is not held to the arc
 
 
 def test_a_gesture_taught_as_a_loop_asks_for_one_and_a_punch_asks_nothing():
-    check = LoopCheck([_gesture("both"), _gesture("right")], [[_repetition(circle)] * 3, [_repetition(punch)] * 3])
+    check = LoopCheck([_gesture("both"), _gesture("right")],
+                      [[_repetition(circle)] * 3, [_repetition(punch)] * 3])
     assert check.taught[0, 0] > 0.45 and "left hand x-y" in check.describe(0)  # the circle, where it rolls
     assert not check.taught[1].any() and check.describe(1) == ""  # out and back the same way: no loop
     still = np.zeros((WINDOW, 6))
