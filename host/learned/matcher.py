@@ -43,6 +43,7 @@ from __future__ import annotations
 
 from collections import deque
 from dataclasses import dataclass
+from itertools import islice
 
 import numpy as np
 
@@ -110,6 +111,7 @@ class Matcher:
                 prefixes.append(motion(r)[:g.completes_at(len(r))])
                 owner.append(gi)
         self.owner = np.array(owner, int)
+        self._templates_of = [np.flatnonzero(self.owner == gi) for gi in range(len(gestures))]
         m, k = len(prefixes), max((len(p) for p in prefixes), default=2)
         self.templates = np.zeros((m, k, 12), np.float32)
         self.valid = np.zeros((m, k), bool)  # (m, k): template m has a posture k
@@ -196,10 +198,12 @@ class Matcher:
 
     def _matched(self, gi: int) -> np.ndarray:
         """The postures gesture `gi`'s best path has matched so far (the motion the loop check reads)."""
-        rows = np.flatnonzero(self.owner == gi)
+        rows = self._templates_of[gi]
         best = rows[np.argmin(self._score[rows])]
-        seen = self.tick - self.start[best, self.end[best]]
-        return np.array(list(self._history)[-seen:]) if 0 < seen <= len(self._history) else np.zeros((0, 6))
+        seen = int(self.tick - self.start[best, self.end[best]])
+        if not 0 < seen <= len(self._history):
+            return np.zeros((0, 6))
+        return np.array(list(islice(self._history, len(self._history) - seen, None)))
 
     def _fresh(self, start: np.ndarray) -> np.ndarray:
         """Paths (started at ticks `start`, one row per template) that may complete their gesture: begun
