@@ -123,6 +123,7 @@ class _HandTrack:
     raised_done: bool = False
     slow_since: float | None = None  # since when the raised hand has been moving slowly
     clear_since: float | None = None  # since when the raised hand has been up and clear of the head
+    at_head_since: float | None = None  # since when the raised hand has been at the head (or low)
     squat_watch: Stroke | None = None  # a push of both hands from hanging: is the body about to squat?
 
     last: dict[int, Stroke] = field(default_factory=dict)  # per axis: the last stroke judged
@@ -770,16 +771,20 @@ class _Hand:
     # --- hand raise ---------------------------------------------------------------------------
     def hand_raise(self, s: Sample) -> None:
         """Up above the head and clear of it, then stopping (at the top of a lift or held there), or
-        kept up and clear for `raise_hold_s` however it moves."""
+        kept up and clear for `raise_hold_s` however it moves (passing the head for moments)."""
         r, tr = self.r, self.tr
         k = self.rec.size(s)
         above = float(s.p[Y]) - (s.head + r.raise_min_above_head_mm * k)
         clear = float(np.linalg.norm(s.p - s.face)) - r.raise_clear_of_head_mm * k  # < 0: at the head
         if above < 0 or clear < 0:
-            tr.slow_since = tr.clear_since = None
+            tr.slow_since = None
+            tr.at_head_since = s.t if tr.at_head_since is None else tr.at_head_since
+            if above < 0 or s.t - tr.at_head_since > r.raise_past_head_s:  # lowered, or put at the head
+                tr.clear_since = None
             if above < -r.stroke_hysteresis_mm:  # lowered for real: the next raise counts again
                 tr.raised_since, tr.raised_done = None, False
             return
+        tr.at_head_since = None
         if tr.raised_since is None:
             tr.raised_since = s.t
         if tr.clear_since is None:

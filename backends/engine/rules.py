@@ -214,6 +214,12 @@ class GestureRules(BaseModel):
     raise_clear_of_head_mm: float = Field(
         300.0, gt=0, description="and at least this far from the head's centre: hands put on the head "
         "(protest, despair) rest within 150-250 mm of it, a raised arm's hand 400-700 mm")
+    raise_past_head_s: float = Field(
+        0.2, ge=0, description="a raised hand that comes within `raise_clear_of_head_mm` of the head for no longer "
+        "than this passes it and stays raised: arms lifted overhead that bring the hands together just above the "
+        "head (MSRC-12's p02: 0.03-0.4 s, median 0.1 s), or a jittery tracker's hand held near that distance; one "
+        "that stays longer was put there (hands on the head rest there for seconds, median 1.1 s between moments "
+        "clear of it)")
     raise_min_up_s: float = Field(
         0.1, gt=0, description="up and clear for at least this long (three frames at 30 Hz)")
     raise_max_speed_mm_s: float = Field(

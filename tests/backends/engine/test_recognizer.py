@@ -360,6 +360,26 @@ def test_a_raised_hand_that_never_stops_is_a_hand_raise_once_held_up_long_enough
     assert completed(perform(_shaken(raise_, 80.0, 60.0))) == expected
 
 
+def _passing_the_head(raise_: c.Performance, at: tuple[float, ...], lasting: float) -> c.Performance:
+    """The raised right hand lowered onto the head (100 mm above its centre, beside it) for `lasting` s
+    from each time in `at`, as MSRC-12's p02 brings the hands of arms lifted overhead together there."""
+    lifted = raise_.hands[Side.RIGHT]
+
+    def at_head(t: float) -> np.ndarray:
+        return np.array([lifted(t)[0], c.HEAD_ABOVE_TORSO + 100.0, 0.0])
+    raise_.hands[Side.RIGHT] = lambda t: at_head(t) if any(a <= t < a + lasting for a in at) else lifted(t)
+    return raise_
+
+
+@pytest.mark.parametrize("lasting, expected", [(0.1, ["hand_raise"]), (0.4, [])])
+def test_a_raised_hand_passing_the_head_stays_raised_and_one_put_there_does_not(lasting, expected):
+    """Shaken, so never stopping, and clear of the head for at most 0.6 s at a time: passing the head
+    for 0.1 s it stays raised (`raise_past_head_s`) and is held up long enough; staying there 0.4 s
+    it was put on the head, and its hold starts again."""
+    raise_ = _shaken(c.hand_raise(above_head=350, aside=250, hold=1.4, move=0.8), 80.0, 60.0)
+    assert completed(perform(_passing_the_head(raise_, at=(1.4, 2.1), lasting=lasting))) == expected
+
+
 def test_a_hand_put_on_the_head_is_no_hand_raise_nor_swipe():
     """Hands on the head (MSRC-12's "had enough") rest above its centre but touch it."""
     on_head = c.hand_raise(above_head=120, hold=1.5, aside=60, forward=0)
