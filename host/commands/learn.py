@@ -20,7 +20,7 @@ import numpy as np
 from host.errors import UserError
 from host.learned.examples import read_take
 from host.learned.gesture_file import LearnedGesture, load
-from host.learned.learner import far_off, learn, taught_before
+from host.learned.learner import examples_left_out, far_off, learn, taught_before
 from host.learned.loops import LoopCheck
 from host.learned.matcher import taught_repetitions
 
@@ -105,6 +105,25 @@ def _live(args: argparse.Namespace) -> list:
         return teach(backend, args.repetitions, args.seconds, sys.stdout, ask)
 
 
+def left_out(gesture: LearnedGesture) -> list[str]:
+    """What the learner left out, in words: an example none of whose repetitions was learned as a whole
+    (another pace or style), other repetitions by their time (so the artist can re-record them)."""
+    whole = examples_left_out(gesture)
+    typical = float(np.median([r.duration for r in gesture.repetitions]))
+    lines = []
+    for source in whole:
+        lengths = [r.duration for r in gesture.left_out if r.source == source]
+        lines.append(f"  left out: all {len(lengths)} repetitions of {source} ({min(lengths):.1f}-{max(lengths):.1f} s, "
+                     f"the others {typical:.1f} s typically): another pace or style of the gesture? Perform it at the "
+                     f"others' pace, or teach it as a gesture of its own (issv learn NAME {source})")
+    for r in gesture.left_out:
+        if r.source not in whole:
+            why = "two run together?" if r.duration > typical else "cut short, or a twitch?"
+            lines.append(f"  left out: {r.source} {r.start:.1f}-{r.end:.1f} s lasts {r.duration:.1f} s, unlike the "
+                         f"others ({why})")
+    return lines
+
+
 def main(args: argparse.Namespace) -> int:
     if args.show is not None:
         gesture = load(args.show)
@@ -129,9 +148,8 @@ def main(args: argparse.Namespace) -> int:
         print(f"{source}: {len(reps)} repetitions taught before")
     for source, count in gesture.found.items():
         print(f"{source}: {count} repetitions found")
-    for r in gesture.left_out:
-        print(f"  left out: {r.source} {r.start:.1f}-{r.end:.1f} s lasts {r.duration:.1f} s, unlike the others "
-              "(two run together, or a twitch)")
+    for line in left_out(gesture):
+        print(line)
     for r in far_off(gesture):
         print(f"  far from the others: {r.source} {r.start:.1f}-{r.end:.1f} s (score {r.score:.3f}); "
               "re-record it if it was a wrong take")

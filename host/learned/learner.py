@@ -121,6 +121,14 @@ def learn(name: str, takes: list[Take], fires_at: float = FIRES_AT,
     return gesture
 
 
+def examples_left_out(gesture: LearnedGesture) -> list[str]:
+    """The examples of which no repetition was learned, every one far shorter or longer than the typical
+    one: not repetitions run together but another pace or style of the gesture (MSRC-12 p03's second
+    beat_both, beaten in front of the chest in half the others' time)."""
+    return [source for source, count in gesture.found.items()
+            if count >= 2 and sum(r.source == source for r in gesture.left_out) == count]
+
+
 def far_off(gesture: LearnedGesture) -> list[TaughtRepetition]:
     """The repetitions unlike the others (score above OUTLIER times the median score)."""
     scores = [r.score for r in gesture.repetitions if r.score is not None]

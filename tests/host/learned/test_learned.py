@@ -209,6 +209,18 @@ def test_a_performer_slower_than_the_teachers_teaches_the_gesture_more(tmp_path)
     assert events == ["circle"] * 3, events
 
 
+def test_an_example_in_another_pace_is_said_as_a_whole_not_repetition_by_repetition(tmp_path, capsys):
+    """Taught together with quick circles, an example of circles over twice as slow is left out whole:
+    said once, as another pace, with what to do, not as repetitions run together."""
+    quick, slow = tmp_path / "quick.csv", tmp_path / "slow.csv"
+    Performer(seed=1).write(quick, circle, 5)
+    Performer(size_mm=480.0, speed=0.45, seed=2).write(slow, circle, 3)
+    assert issv(["learn", "circle", str(quick), str(slow), "--mirrored", "-o", str(tmp_path / "c.gesture.json")]) == 0
+    said = capsys.readouterr().out
+    assert f"left out: all 3 repetitions of {slow} (" in said and "teach it as a gesture of its own" in said
+    assert "two run together" not in said and "circle: 5 repetitions" in said
+
+
 def wide_circle(u: float) -> np.ndarray:
     """The circle in another style: hands out at the sides, each rolling in the frontal plane."""
     lift = np.sin(np.pi * u) ** 0.5
