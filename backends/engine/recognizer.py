@@ -778,7 +778,8 @@ class _Hand:
         clear = float(np.linalg.norm(s.p - s.face)) - r.raise_clear_of_head_mm * k  # < 0: at the head
         if above < 0 or clear < 0:
             tr.slow_since = None
-            tr.at_head_since = s.t if tr.at_head_since is None else tr.at_head_since
+            if tr.at_head_since is None:
+                tr.at_head_since = s.t
             if above < 0 or s.t - tr.at_head_since > r.raise_past_head_s:  # lowered, or put at the head
                 tr.clear_since = None
             if above < -r.stroke_hysteresis_mm:  # lowered for real: the next raise counts again

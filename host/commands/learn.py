@@ -106,8 +106,8 @@ def _live(args: argparse.Namespace) -> list:
 
 
 def left_out(gesture: LearnedGesture) -> list[str]:
-    """What the learner left out, in words: an example none of whose repetitions was learned as a whole
-    (another pace or style), other repetitions by their time (so the artist can re-record them)."""
+    """What the learner left out, in words: an example of which no repetition was learned once, as a
+    whole (another pace or style); any other repetition by its time, so the artist can re-record it."""
     whole = examples_left_out(gesture)
     typical = float(np.median([r.duration for r in gesture.repetitions]))
     lines = []
