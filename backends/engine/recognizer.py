@@ -780,7 +780,7 @@ class _Hand:
             tr.slow_since = None
             if tr.at_head_since is None:
                 tr.at_head_since = s.t
-            if above < 0 or s.t - tr.at_head_since > r.raise_past_head_s:  # lowered, or put at the head
+            if above < 0 or s.t - tr.at_head_since >= r.raise_past_head_s:  # lowered, or put at the head
                 tr.clear_since = None
             if above < -r.stroke_hysteresis_mm:  # lowered for real: the next raise counts again
                 tr.raised_since, tr.raised_done = None, False
