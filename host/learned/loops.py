@@ -98,11 +98,13 @@ class LoopCheck:
         self.need = np.array([AS_MUCH if g.loop is None else g.loop for g in gestures])
         self.checked = (self.taught > 0).any(axis=1) & (self.need > 0)
 
-    def passes(self, matched: Callable[[int], np.ndarray]) -> np.ndarray:
+    def passes(self, matched: Callable[[int], np.ndarray], among: np.ndarray | None = None) -> np.ndarray:
         """(gestures,) bool: not a looping gesture, or the motion `matched(g)` (postures (n, 6)) that
-        gesture g's best template has matched loops as its teachers' did."""
+        gesture g's best template has matched loops as its teachers' did. Read only for the gestures
+        `among` ((gestures,) bool; all by default): the matcher asks for those whose templates are
+        close enough to complete, so the loop is not measured at every posture for every gesture."""
         out = ~self.checked
-        for g in np.flatnonzero(self.checked):
+        for g in np.flatnonzero(self.checked if among is None else self.checked & among):
             motion = matched(g)
             motion = motion[-max(MIN_SEEN, int(round(self.share[g] * len(motion)))):]
             if len(motion) >= MIN_SEEN:

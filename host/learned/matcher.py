@@ -154,7 +154,8 @@ class Matcher:
             return []
         self._history.append(posture)
         per = self.step(posture)
-        per = np.where(self.loops.passes(self._matched), per, np.inf)
+        possible = per < SURE_RATIO * self.thresholds  # no gesture further away completes (`_decide`)
+        per = np.where(self.loops.passes(self._matched, possible), per, np.inf)
         agree = np.ones(len(self.gestures)) if self.classifier is None else \
             self.classifier.probabilities(self.describer.push(posture))[:-1]
         return self._announce() + self._decide(per, agree)
