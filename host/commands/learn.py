@@ -20,11 +20,12 @@ import numpy as np
 from host.errors import UserError
 from host.learned.examples import read_take
 from host.learned.gesture_file import LearnedGesture, load
-from host.learned.learner import examples_left_out, far_off, learn, taught_before
+from host.learned.learner import STYLE_MIN, examples_left_out, far_off, hands_used, learn, taught_before
 from host.learned.loops import LoopCheck
 from host.learned.matcher import taught_repetitions
 
 HELP = "learn a gesture from examples of it (CSV trajectories, .npz clips, .mcap recordings)"
+_HANDS = {"both": "both hands", "left": "the left hand", "right": "the right hand"}
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -106,16 +107,24 @@ def _live(args: argparse.Namespace) -> list:
 
 
 def left_out(gesture: LearnedGesture) -> list[str]:
-    """What the learner left out, in words: an example of which no repetition was learned once, as a
-    whole (another pace or style); any other repetition by its time, so the artist can re-record it."""
+    """What the learner made of lengths unlike the others', in words: an example learned at a pace of
+    its own; an example of which no repetition was learned, said once, with why (other hands, or too
+    few repetitions for a pace of their own); any other repetition left out by its time, so the artist
+    can re-record it."""
+    paced = [r.duration for r in gesture.repetitions if r.source not in gesture.paces]
+    typical = float(np.median(paced or [r.duration for r in gesture.repetitions]))
+    lines = [f"  another pace: {source} ({pace:.1f} s, the others {typical:.1f} s typically), learned as a style "
+             "of the gesture" for source, pace in gesture.paces.items()]
     whole = examples_left_out(gesture)
-    typical = float(np.median([r.duration for r in gesture.repetitions]))
-    lines = []
     for source in whole:
-        lengths = [r.duration for r in gesture.left_out if r.source == source]
+        reps = [r for r in gesture.left_out if r.source == source]
+        lengths = [r.duration for r in reps]
+        hands = hands_used(reps)[0]
+        why = (f"made with {_HANDS[hands]}, the others with {_HANDS[gesture.hands]}: another gesture? Teach it as a "
+               f"gesture of its own (issv learn NAME {source})" if hands != gesture.hands else
+               f"another pace of the gesture? Perform it at the others' pace, or at least {STYLE_MIN} times at its own")
         lines.append(f"  left out: all {len(lengths)} repetitions of {source} ({min(lengths):.1f}-{max(lengths):.1f} s, "
-                     f"the others {typical:.1f} s typically): another pace or style of the gesture? Perform it at the "
-                     f"others' pace, or teach it as a gesture of its own (issv learn NAME {source})")
+                     f"the others {typical:.1f} s typically): {why}")
     for r in gesture.left_out:
         if r.source not in whole:
             why = "two run together?" if r.duration > typical else "cut short, or a twitch?"

@@ -46,6 +46,7 @@ class LearnedGesture:
     rate_hz: float = 15.0
     left_out: list[TaughtRepetition] = field(default_factory=list)  # found but not learned (odd length)
     found: dict[str, int] = field(default_factory=dict)  # repetitions found per example
+    paces: dict[str, float] = field(default_factory=dict)  # examples learned at a pace of their own: their length (s)
     loop: float | None = None  # a profile's override of how much a performance must loop (loops.py); not in the file
 
     def completes_at(self, postures: int) -> int:

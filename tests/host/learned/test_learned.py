@@ -209,16 +209,43 @@ def test_a_performer_slower_than_the_teachers_teaches_the_gesture_more(tmp_path)
     assert events == ["circle"] * 3, events
 
 
-def test_an_example_in_another_pace_is_said_as_a_whole_not_repetition_by_repetition(tmp_path, capsys):
-    """Taught together with quick circles, an example of circles over twice as slow is left out whole:
-    said once, as another pace, with what to do, not as repetitions run together."""
-    quick, slow = tmp_path / "quick.csv", tmp_path / "slow.csv"
+def test_an_example_at_another_pace_is_learned_as_a_style_of_the_gesture(tmp_path, capsys):
+    """Taught together with quick circles, an example of three circles over twice as slow is another
+    pace of the gesture, not repetitions run together: learned, and said once; two such circles are
+    too few to tell a pace from mistakes, and are left out whole, saying what to do."""
+    quick, slow, two = tmp_path / "quick.csv", tmp_path / "slow.csv", tmp_path / "two.csv"
     Performer(seed=1).write(quick, circle, 5)
     Performer(size_mm=480.0, speed=0.45, seed=2).write(slow, circle, 3)
+    Performer(size_mm=480.0, speed=0.45, seed=3).write(two, circle, 2)
     assert issv(["learn", "circle", str(quick), str(slow), "--mirrored", "-o", str(tmp_path / "c.gesture.json")]) == 0
     said = capsys.readouterr().out
-    assert f"left out: all 3 repetitions of {slow} (" in said and "teach it as a gesture of its own" in said
+    assert f"another pace: {slow} (3.6 s, the others 1.7 s typically), learned as a style" in said
+    assert "left out" not in said and "circle: 8 repetitions" in said
+    assert issv(["learn", "circle", str(quick), str(two), "--mirrored", "-o", str(tmp_path / "c2.gesture.json")]) == 0
+    said = capsys.readouterr().out
+    assert f"left out: all 2 repetitions of {two} (" in said and "at least 3 times at its own" in said
     assert "two run together" not in said and "circle: 5 repetitions" in said
+
+
+def one_hand_circle(u: float) -> np.ndarray:
+    """The circle made with the right hand alone, the left hanging."""
+    out = REST.copy()
+    out[1] = circle(u)[1]
+    return out
+
+
+def test_an_example_made_with_other_hands_is_left_out_as_another_gesture(tmp_path, capsys):
+    """Three slow circles made with one hand, taught with quick circles of both hands, are no pace of
+    the gesture but another gesture (MSRC-12 p03 shoots with one hand, p01 and p02 with both): left
+    out whole, saying so."""
+    quick, one = tmp_path / "quick.csv", tmp_path / "one.csv"
+    Performer(seed=1).write(quick, circle, 5)
+    Performer(size_mm=480.0, speed=0.45, seed=2).write(one, one_hand_circle, 3)
+    assert issv(["learn", "circle", str(quick), str(one), "--mirrored", "-o", str(tmp_path / "c.gesture.json")]) == 0
+    said = capsys.readouterr().out
+    assert f"left out: all 3 repetitions of {one} (" in said
+    assert "made with the right hand, the others with both hands: another gesture?" in said
+    assert "circle: 5 repetitions" in said and "hands: both" in said
 
 
 def wide_circle(u: float) -> np.ndarray:
