@@ -56,12 +56,16 @@ def typical_length(reps: Sequence[TaughtRepetition]) -> float:
     return float(np.median([r.duration for r in reps]))
 
 
+def usual_length(duration: float, typical: float) -> bool:
+    return SHORTEST <= duration / typical <= LONGEST
+
+
 def own_paces(reps: list[TaughtRepetition], among: list[TaughtRepetition]) -> dict[str, float]:
     """The examples of `reps` performed at a pace of their own, with their typical length (s): at
     least STYLE_MIN repetitions, every one far shorter or longer than the typical one of `among`, made
     with the hands the others use. Not mistakes, which a performer does not repeat alike, but a style
     of the gesture (MSRC-12 p03 beats beat_both in front of the chest in half the others' time, as
-    three of p04-p10 do). A repetition made with other hands is another gesture (p03's one-handed
+    three of p04-p10 do). An example made with other hands is another gesture (p03's one-handed
     shoot, where p01 and p02 shoot with both). Chosen on p04-p07 (mean recall 0.852 -> 0.857, false
     fires 0.035 -> 0.032) and checked on p08-p10 (0.871 -> 0.904, 0.086 -> 0.087; beat_both on p04-p10
     0.76 -> 0.85); leaving one teacher out it costs p01 0.84 -> 0.75, whose wind_it_up the in-front
@@ -71,7 +75,7 @@ def own_paces(reps: list[TaughtRepetition], among: list[TaughtRepetition]) -> di
     for source in dict.fromkeys(r.source for r in reps):
         mine = [r for r in reps if r.source == source]
         rest = [r for r in among if r.source != source]
-        if (len(mine) >= STYLE_MIN and rest and not any(SHORTEST <= r.duration / typical <= LONGEST for r in mine)
+        if (len(mine) >= STYLE_MIN and rest and not any(usual_length(r.duration, typical) for r in mine)
                 and hands_used(mine)[0] == hands_used(rest)[0]):
             paces[source] = typical_length(mine)
     return paces
@@ -82,7 +86,7 @@ def odd_lengths(reps: list[TaughtRepetition], among: list[TaughtRepetition],
     """Those of `reps` far shorter or longer than the typical one of `among`, or of their example's own
     pace (`own_paces`): two run together, or a twitch."""
     typical = typical_length(among)
-    return [r for r in reps if not SHORTEST <= r.duration / paces.get(r.source, typical) <= LONGEST]
+    return [r for r in reps if not usual_length(r.duration, paces.get(r.source, typical))]
 
 
 def hands_used(reps: list[TaughtRepetition]) -> tuple[str, np.ndarray]:
