@@ -20,7 +20,8 @@ import numpy as np
 from host.errors import UserError
 from host.learned.examples import read_take
 from host.learned.gesture_file import LearnedGesture, load
-from host.learned.learner import STYLE_MIN, examples_left_out, far_off, hands_used, learn, taught_before
+from host.learned.learner import (STYLE_MIN, examples_left_out, far_off, hands_used, learn, taught_before,
+                                  typical_length)
 from host.learned.loops import LoopCheck
 from host.learned.matcher import taught_repetitions
 
@@ -111,8 +112,8 @@ def left_out(gesture: LearnedGesture) -> list[str]:
     its own; an example of which no repetition was learned, said once, with why (other hands, or too
     few repetitions for a pace of their own); any other repetition left out by its time, so the artist
     can re-record it."""
-    paced = [r.duration for r in gesture.repetitions if r.source not in gesture.paces]
-    typical = float(np.median(paced or [r.duration for r in gesture.repetitions]))
+    others = [r for r in gesture.repetitions if r.source not in gesture.paces]
+    typical = typical_length(others or gesture.repetitions)
     lines = [f"  another pace: {source} ({pace:.1f} s, the others {typical:.1f} s typically), learned as a style "
              "of the gesture" for source, pace in gesture.paces.items()]
     whole = examples_left_out(gesture)
