@@ -126,19 +126,22 @@ def _completes(events: list[tuple[float, str, str]]) -> list[tuple[float, str]]:
 
 
 def announced(runs: list[list[tuple[float, str, str]]]) -> dict:
-    """How many COMPLETEs an IN_PROGRESS of the same gesture announced (since its last COMPLETE), how early."""
-    leads, total = [], 0
+    """How many COMPLETEs an IN_PROGRESS of the same gesture announced (since its last COMPLETE), how
+    early, and the share of announced attempts (IN_PROGRESS) that completed."""
+    leads, total, attempts = [], 0, 0
     for events in runs:
         since: dict[str, float] = {}
         for t, name, state in events:
             if state == "in_progress":
+                attempts += 1
                 since[name] = t  # the latest: an attempt that faded was announced before
             else:
                 total += 1
                 if name in since:
                     leads.append(t - since.pop(name))
     return {"completes": total, "announced_share": len(leads) / max(1, total),
-            "lead_s_p50": float(np.median(leads)) if leads else None}
+            "lead_s_p50": float(np.median(leads)) if leads else None,
+            "attempts": attempts, "attempts_completed": len(leads) / max(1, attempts)}
 
 
 def protocol(folder: Path, workdir: Path, jobs: int = 2) -> tuple[dict, list[Path], float, dict]:
@@ -166,19 +169,20 @@ def protocol(folder: Path, workdir: Path, jobs: int = 2) -> tuple[dict, list[Pat
     return out, files, max(learn_s), completed
 
 
-def recognise(recognizer: LearnedRecognizer, csv: Path) -> list[tuple[float, str]]:
-    events = []
+def recognise(recognizer: LearnedRecognizer, csv: Path) -> tuple[list[tuple[float, str, str]], float]:
+    """(t, name, state) of every event on a recording, and its length in seconds."""
+    events, times = [], []
     for frame in read_trajectories(csv):
-        events += [(e.timestamp, e.name) for e in recognizer.update(frame.t, frame.hands, frame.body)
-                   if e.state.value == "complete"]
-    return events
+        times.append(frame.t)
+        events += [(e.timestamp, e.name, e.state.value) for e in recognizer.update(frame.t, frame.hands, frame.body)]
+    return events, (times[-1] - times[0] if times else 0.0)
 
 
 def recognised(gestures: list, checked: list[tuple[Path, dict]],
                what: str) -> list[tuple[dict, list[tuple[float, str]]]]:
     """(truth, COMPLETE events) of each recording, in process (every recogniser of the set shares
     one classifier, trained once), with a progress bar saying `what` runs."""
-    return [(t, recognise(LearnedRecognizer(gestures, True), c)) for c, t in tracked(checked, what)]
+    return [(t, _completes(recognise(LearnedRecognizer(gestures, True), c)[0])) for c, t in tracked(checked, what)]
 
 
 def teacher_side(folder: Path) -> dict:
@@ -236,23 +240,31 @@ def everyday(files: list[Path], folder: Path) -> dict | None:
     children (kinder-gator-dev beside msrc12-dev) walking, running, jumping, bowing, kicking, where
     nothing may fire, and performing the built-in dictionary (wave, hand_raise, swipes, click),
     where no learned gesture should either. Per group, the share of motions in which one completes,
-    and which fired where. None without the folder."""
+    which fired where, and how many attempts are announced (IN_PROGRESS) a minute while nothing may
+    fire. None without the folder."""
     kinder = folder.parent / "kinder-gator-dev"
     if not kinder.is_dir():
         return None
     motions = [(csv, json.loads((kinder / "truth" / (csv.stem + ".json")).read_text()))
                for csv in sorted(kinder.glob("*.csv"))]
-    runs = recognised([load(f) for f in files], motions, "the six on Kinder-Gator's motions")
+    gestures = [load(f) for f in files]
     shares: dict[str, list[int]] = collections.defaultdict(lambda: [0, 0])
     fired = collections.defaultdict(collections.Counter)
-    for truth, events in runs:
+    null_attempts, null_s = 0, 0.0
+    for csv, truth in tracked(motions, "the six on Kinder-Gator's motions"):
+        events, seconds = recognise(LearnedRecognizer(gestures, True), csv)
+        done = _completes(events)
         kind = "null" if truth["label"] is None else "dictionary"
-        shares[f"{kind} {truth['group']}"][0] += bool(events)
+        shares[f"{kind} {truth['group']}"][0] += bool(done)
         shares[f"{kind} {truth['group']}"][1] += 1
-        fired[truth["label"] or "null"].update({name for _, name in events})
+        fired[truth["label"] or "null"].update({name for _, name in done})
+        if kind == "null":
+            null_attempts += sum(state == "in_progress" for _, _, state in events)
+            null_s += seconds
     return {"fired_share": {k: v[0] / v[1] for k, v in sorted(shares.items())},
             "motions": {k: v[1] for k, v in sorted(shares.items())},
-            "fired_by_label": {label: dict(c) for label, c in sorted(fired.items()) if c}}
+            "fired_by_label": {label: dict(c) for label, c in sorted(fired.items()) if c},
+            "null_in_progress_per_min": null_attempts / max(1e-9, null_s / 60)}
 
 
 def cost(files: list[Path], folder: Path) -> dict:
@@ -307,9 +319,12 @@ def main() -> None:
     else:
         rows += [["everyday motions", f"Kinder-Gator {kind} ({others['motions'][kind]} motions): a learned gesture fires",
                   "", f"{share:.3f}"] for kind, share in others["fired_share"].items()]
+        rows.append(["everyday motions", "in_progress per minute of null motions", others["null_in_progress_per_min"], ""])
     ip = checked["in_progress"]
     rows.append(["p04-p10", "COMPLETEs announced by IN_PROGRESS", ip["announced_share"],
                  f"median {ip['lead_s_p50'] or 0:.2f} s before"])
+    rows.append(["p04-p10", f"announced attempts (IN_PROGRESS, {ip['attempts']}) that complete",
+                 ip["attempts_completed"], ""])
     rows.append(["cost", f"{timing['learned_gestures']} gestures, {timing['templates']} templates",
                  timing["ms_per_frame"], f"ms/frame; learn {learn_s:.1f} s; train six {timing['train_six_cpu_s']:.1f} s CPU"])
     report("Learned gestures (MSRC-12): recall within [-1.5, +1.0] s of the action point",

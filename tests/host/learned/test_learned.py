@@ -98,20 +98,25 @@ class Unsure:
         return np.array([self.p, 0.0, 1.0 - self.p])
 
 
-@pytest.mark.parametrize("tighter, p, expected", [(1.0, 0.3, 3), (1.0, 0.01, 0), (0.5, 0.3, 0), (0.5, 0.95, 3)],
+@pytest.mark.parametrize("tighter, p, announced, completed",
+                         [(1.0, 0.3, 3, 3), (1.0, 0.01, 0, 0), (0.5, 0.3, 3, 0), (0.5, 0.95, 3, 3)],
                          ids=["close-unsure", "close-ruled-out", "near-unsure", "near-agreeing"])
-def test_the_closer_the_template_the_less_the_classifier_must_agree(taught, tmp_path, tighter, p, expected):
+def test_the_closer_the_template_the_less_the_classifier_must_agree(taught, tmp_path, tighter, p, announced,
+                                                                     completed):
     """A performance matching a taught repetition closely (within CLOSE_RATIO of the threshold)
     completes with a classifier that is unsure of it (a style the teachers never showed, e.g. wider
     circles), unless the classifier rules it out; one only just below the threshold (the threshold
-    halved here) still needs the classifier to agree."""
+    halved here) still needs the classifier to agree. An attempt the classifier rules out is not
+    even announced (in_progress); one it is unsure of is."""
     csv = tmp_path / "circle.csv"
     Performer(seed=7).write(csv, circle, 3)
     gestures = [gesture_file.load(path) for path in taught]
     recognizer = LearnedRecognizer(gestures, True, {"circle": tighter * gestures[0].threshold}, classifier=Unsure(p))
-    events = [e.name for frame in read_trajectories(csv)
-              for e in recognizer.update(frame.t, frame.hands, frame.body) if e.state.value == "complete"]
-    assert events == ["circle"] * expected, events
+    events = [(e.name, e.state.value) for frame in read_trajectories(csv)
+              for e in recognizer.update(frame.t, frame.hands, frame.body)]
+    assert events.count(("circle", "in_progress")) == announced, events
+    assert events.count(("circle", "complete")) == completed, events
+    assert {name for name, _ in events} <= {"circle"}, events
 
 
 def lift(u: float) -> np.ndarray:
