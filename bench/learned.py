@@ -15,7 +15,8 @@ made on one half and checked on the other (learner.own_paces).
 Teach more: a performer the teachers' gesture misses teaches their own style on top of the
 teachers' file, from the first half of their recording; recall on the rest, before and after
 (`teach_more`). Other people doing other things (`everyday`): the six on Kinder-Gator's adults
-and children walking, running, jumping (nothing may fire) and performing the built-in dictionary.
+and children walking, running, jumping (nothing may fire) and performing the built-in dictionary;
+and what counter-examples (`issv learn --unlike`) do to the confusion found there (`counter_examples`).
 And cost: per-frame time of recognising 10 learned gestures (the six and four
 more taught from the same takes under other names), CPU time on one core, the time `issv
 learn` takes, and the CPU time training the six's classifier takes (`Classifier.train` itself: a
@@ -42,7 +43,7 @@ from host.commands.gestures import read_trajectories
 from host.learned.classifier import Classifier
 from host.learned.examples import read_take
 from host.learned.gesture_file import load
-from host.learned.learner import learn, taught_before
+from host.learned.learner import counter_example, learn, taught_before
 from host.learned.matcher import taught_repetitions
 from host.learned.recognizer import LearnedRecognizer
 
@@ -267,6 +268,35 @@ def everyday(files: list[Path], folder: Path) -> dict | None:
             "null_in_progress_per_min": null_attempts / max(1e-9, null_s / 60)}
 
 
+COUNTER = ("throw", "p604")  # the gesture taught with counter-examples, and whose raised hands they are
+
+
+def counter_examples(files: list[Path], folder: Path) -> dict | None:
+    """`issv learn --unlike` on the confusion `everyday` finds: throw learned again with one adult's
+    two Kinder-Gator takes of a raised hand as counter-examples. Before and after: the other five
+    people's raised hands and waves with a learned gesture, and the judged protocol on p04-p10 (in
+    process). None without kinder-gator-dev."""
+    kinder = folder.parent / "kinder-gator-dev"
+    if not kinder.is_dir():
+        return None
+    name, person = COUNTER
+    raises = sorted(kinder.glob(f"*_{person}_raise-your*.csv"))
+    plain = [load(f) for f in files]
+    unlike = [counter_example(read_take(str(c), True)) for c in raises]
+    taught = [learn(g.name, [], before=taught_before(g), unlike=unlike) if g.name == name else g for g in plain]
+    others = [(c, t) for c, t in ((c, json.loads((kinder / "truth" / (c.stem + ".json")).read_text()))
+                                  for c in sorted(kinder.glob("*.csv")))
+              if t["label"] in ("hand_raise", "wave") and t["person"] != person]
+    out = {"gesture": name, "unlike": [c.name for c in raises], "motions": len(others)}
+    for label, gestures in (("before", plain), ("after", taught)):
+        fired = recognised(gestures, others, f"raised hands and waves, {label} --unlike")
+        checked = score(recognised(gestures, streams(folder, CHECKED), f"p04-p10, {label} --unlike"))
+        out[label] = {"fired_share": sum(bool(e) for _, e in fired) / len(others),
+                      "mean_recall": checked["mean_recall"], "false_fire_rate": checked["false_fire_rate"],
+                      "recall": checked["recall"][name]}
+    return out
+
+
 def cost(files: list[Path], folder: Path) -> dict:
     """ms per frame for 10 learned gestures (six files, four of them again under new names)."""
     gestures = [load(f) for f in files]
@@ -296,10 +326,11 @@ def main() -> None:
         timing = cost(files, folder)
         more = teach_more(folder, files, completed)
         others = everyday(files, folder)
+        unlike = counter_examples(files, folder)
     timing["learn_s_slowest_gesture"] = learn_s
     teachers = None if args.skip_teachers else teacher_side(folder)
     figures = {"checked_p04_p10": checked, "teachers_leave_one_out": teachers, "teach_more": more,
-               "everyday_motions": others, "cost": timing,
+               "everyday_motions": others, "counter_examples": unlike, "cost": timing,
                "targets": {"mean_recall": 0.9, "worst_gesture_recall": 0.75, "worst_person_recall": 0.75,
                            "false_fire_rate": 0.10, "ms_per_frame": 1.0}}
     rows = []
@@ -320,6 +351,13 @@ def main() -> None:
         rows += [["everyday motions", f"Kinder-Gator {kind} ({others['motions'][kind]} motions): a learned gesture fires",
                   "", f"{share:.3f}"] for kind, share in others["fired_share"].items()]
         rows.append(["everyday motions", "in_progress per minute of null motions", others["null_in_progress_per_min"], ""])
+        b, a = unlike["before"], unlike["after"]
+        rows.append(["--unlike", f"{unlike['gesture']} unlike {len(unlike['unlike'])} raised-hand takes: the others' "
+                     f"raises and waves ({unlike['motions']}) with a learned gesture", "",
+                     f"{b['fired_share']:.3f} -> {a['fired_share']:.3f}"])
+        rows.append(["--unlike", f"p04-p10 mean recall ({unlike['gesture']}'s) / false fires, before -> after",
+                     a["mean_recall"], f"{b['mean_recall']:.3f} ({b['recall']:.2f}) / {b['false_fire_rate']:.3f} -> "
+                     f"{a['mean_recall']:.3f} ({a['recall']:.2f}) / {a['false_fire_rate']:.3f}"])
     ip = checked["in_progress"]
     rows.append(["p04-p10", "COMPLETEs announced by IN_PROGRESS", ip["announced_share"],
                  f"median {ip['lead_s_p50'] or 0:.2f} s before"])

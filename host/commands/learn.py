@@ -4,6 +4,7 @@
     issv learn --show goggles.gesture.json          # what was learned, and a PNG of the repetitions
     issv learn bow --profile stage.toml --repetitions 5   # live, from the profile's source and backend
     issv learn goggles goggles.gesture.json take3.csv --mirrored   # teach it more: a new performer added
+    issv learn throw throws.csv --unlike raise.csv --mirrored   # and what it is not: a raised hand
 
 Each example holds one or more repetitions separated by rest or stillness; the learner finds them,
 says how many and how alike they are, and names a repetition far from the others by its time. An
@@ -20,8 +21,8 @@ import numpy as np
 from host.errors import UserError
 from host.learned.examples import read_take
 from host.learned.gesture_file import LearnedGesture, load
-from host.learned.learner import (STYLE_MIN, examples_left_out, far_off, hands_used, learn, taught_before,
-                                  typical_length)
+from host.learned.learner import (STYLE_MIN, counter_example, examples_left_out, far_off, hands_used, learn,
+                                  taught_before, typical_length, unlike_before)
 from host.learned.loops import LoopCheck
 from host.learned.matcher import taught_repetitions
 
@@ -34,6 +35,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("examples", nargs="*", metavar="EXAMPLE",
                    help="FILE or FILE@START-END (seconds): .csv hand trajectories, .npz depth clips, .mcap recordings; "
                    "or a learned-gesture .json, whose repetitions are learned again with the new ones")
+    p.add_argument("--unlike", nargs="+", action="extend", default=[], metavar="EXAMPLE",
+                   help="counter-examples: takes of motions the gesture must not be taken for (a raised hand for a "
+                   "throw that ends up high), same forms as EXAMPLE, kept whole in the file")
     p.add_argument("--mirrored", action="store_true",
                    help="CSV coordinates come from a mirrored image: +x is the performer's right")
     p.add_argument("-o", "--output", type=Path, help="where to write the gesture (default: NAME.gesture.json)")
@@ -55,6 +59,9 @@ def describe(g: LearnedGesture) -> str:
     loops = LoopCheck([g], taught_repetitions([g])).describe(0)
     if loops:
         lines.append(f"  loops: {loops}; a performance must loop too (docs/learned-gestures.md)")
+    if g.unlike:
+        lines.append(f"  unlike: {len(g.unlike)} counter-examples, {sum(u.duration for u in g.unlike):.1f} s "
+                     f"({', '.join(u.source for u in g.unlike)}): motions it is not")
     if scores:
         lines.append(f"  consistency: each repetition's distance to the others of its example, "
                      f"median {np.median(scores):.3f}, worst {max(scores):.3f} (body units)")
@@ -147,17 +154,22 @@ def main(args: argparse.Namespace) -> int:
     if not args.examples and args.profile is None:
         raise UserError(f"issv learn {args.name}: give examples (TAKE.csv, CLIP.npz, REC.mcap) or --profile to "
                         "teach live")
-    before = {e: taught_before(load(e)) for e in args.examples if Path(e).suffix.lower() == ".json"}
+    files = {e: load(e) for e in args.examples if Path(e).suffix.lower() == ".json"}
+    before = {e: taught_before(g) for e, g in files.items()}
     takes = [read_take(e, args.mirrored, args.backend) for e in args.examples if e not in before]
+    unlike = [u for g in files.values() for u in unlike_before(g)] + \
+        [counter_example(read_take(e, args.mirrored, args.backend)) for e in args.unlike]
     if args.profile is not None:
         takes += _live(args)
-    gesture = learn(args.name, takes, before=[r for reps in before.values() for r in reps])
+    gesture = learn(args.name, takes, before=[r for reps in before.values() for r in reps], unlike=unlike)
     output = args.output or Path(f"{args.name}.gesture.json")
     gesture.save(output)
     for source, reps in before.items():
         print(f"{source}: {len(reps)} repetitions taught before")
     for source, count in gesture.found.items():
         print(f"{source}: {count} repetitions found")
+    for u in gesture.unlike:
+        print(f"{u.source}: unlike it, {u.duration:.1f} s learned as none")
     for line in left_out(gesture):
         print(line)
     for r in far_off(gesture):

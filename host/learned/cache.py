@@ -33,24 +33,26 @@ TRAINED: dict[str, Classifier] = {}  # trained or read in this process, by key
 _ARRAYS = ("mean", "scale", "weights", "bias")
 
 
-def trained(taught: list[list[np.ndarray]]) -> Classifier:
-    """`Classifier.train(taught)`, from this process or the disk cache when it was trained before."""
-    key = _key(taught)
+def trained(taught: list[list[np.ndarray]], unlike: list[list[np.ndarray]] | None = None) -> Classifier:
+    """`Classifier.train(taught, unlike)`, from this process or the disk cache when it was trained before."""
+    key = _key(taught, unlike or [])
     if key not in TRAINED:
-        TRAINED[key] = _read(key, len(taught) + 1) or _train_and_keep(key, taught)
+        TRAINED[key] = _read(key, len(taught) + 1) or _train_and_keep(key, taught, unlike)
     return TRAINED[key]
 
 
-def _key(taught: list[list[np.ndarray]]) -> str:
-    """A hash of everything training depends on: the repetitions in order, the code, numpy."""
+def _key(taught: list[list[np.ndarray]], unlike: list[list[np.ndarray]]) -> str:
+    """A hash of everything training depends on: the repetitions and counter-examples in order, the
+    code, numpy. A set without counter-examples keeps the key it had before they existed."""
     h = hashlib.sha256(FORMAT)
     h.update(Path(classifier.__file__).read_bytes())
     h.update(np.__version__.encode())
-    for reps in taught:
-        h.update(b"gesture %d" % len(reps))
-        for r in reps:
-            r = np.ascontiguousarray(r, np.float64)
-            h.update(repr(r.shape).encode() + r.tobytes())
+    for label, sets in ((b"gesture %d", taught), (b"unlike %d", [u for u in unlike if u])):
+        for reps in sets:
+            h.update(label % len(reps))
+            for r in reps:
+                r = np.ascontiguousarray(r, np.float64)
+                h.update(repr(r.shape).encode() + r.tobytes())
     return h.hexdigest()
 
 
@@ -76,9 +78,9 @@ def _read(key: str, classes: int) -> Classifier | None:
     return Classifier(**arrays)
 
 
-def _train_and_keep(key: str, taught: list[list[np.ndarray]]) -> Classifier:
+def _train_and_keep(key: str, taught: list[list[np.ndarray]], unlike: list[list[np.ndarray]] | None) -> Classifier:
     """Train, and write the entry (atomically: another process may be reading or writing it too)."""
-    trained_now = Classifier.train(taught)
+    trained_now = Classifier.train(taught, unlike)
     try:
         folder = cache_dir() / "learned"
         folder.mkdir(parents=True, exist_ok=True)

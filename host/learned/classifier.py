@@ -9,9 +9,11 @@ the shape of the last WINDOW postures (where the hands were, where they are rela
 other, how they moved). It is trained when the gestures are loaded, from the repetitions stored in
 their files: the last (1 - EARLY) of each repetition is that gesture, its beginning, the rest
 pose before it and the rest after it are "none", and every other loaded gesture's repetitions are
-negatives. The files stay as `issv learn` wrote them, and a set of gestures loaded together is
-told apart by what it contains; a set's classifier is trained once and kept in the user's cache
-(cache.py), as training takes seconds and a set is loaded again and again.
+negatives, as are the counter-examples a file holds (`issv learn --unlike`: motions the artist
+says it is not, every moment of them "none"). The files stay as `issv learn` wrote them, and a set
+of gestures loaded together is told apart by what it contains; a set's classifier is trained once
+and kept in the user's cache (cache.py), as training takes seconds and a set is loaded again and
+again.
 
 It must also say "none" to motions it never saw. A linear classifier cannot: hands on the head
 (MSRC-12 had_enough) lie beyond hands at the eyes (goggles) along the very direction that tells
@@ -100,10 +102,14 @@ class Classifier:
         return e / e.sum(axis=-1, keepdims=True)
 
     @classmethod
-    def train(cls, repetitions: list[list[np.ndarray]]) -> "Classifier":
-        """repetitions[g]: gesture g's repetitions (postures (n, 6) at RATE_HZ)."""
+    def train(cls, repetitions: list[list[np.ndarray]], unlike: list[list[np.ndarray]] | None = None) -> "Classifier":
+        """repetitions[g]: gesture g's repetitions (postures (n, 6) at RATE_HZ); unlike[g]: its
+        counter-examples (`issv learn --unlike`), "none" every moment."""
         none = len(repetitions)
         xs, ys = [], []
+        for postures in (p for takes in unlike or [] for p in takes):
+            xs.append(describe_all(postures)[::EVERY])
+            ys.append(np.full(len(xs[-1]), none))
         for g, reps in enumerate(repetitions):
             for postures in reps:
                 label = np.full(len(postures), none)

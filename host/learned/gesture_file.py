@@ -3,7 +3,8 @@
 A small JSON document. Its repetitions are postures in body units (features.py) sampled at
 `rate_hz`, so a file taught on one camera works on another. Everything the recogniser uses is in
 the file and may be edited by hand: `threshold` (how close a performance must come; the profile
-may override it), `fires_at` (how far into the gesture it completes) and `weights`.
+may override it), `fires_at` (how far into the gesture it completes) and `weights`; and, when the
+artist gave any, `unlike`: whole takes of motions it must not be taken for (counter-examples).
 """
 from __future__ import annotations
 
@@ -47,6 +48,7 @@ class LearnedGesture:
     left_out: list[TaughtRepetition] = field(default_factory=list)  # found but not learned (odd length)
     found: dict[str, int] = field(default_factory=dict)  # repetitions found per example
     paces: dict[str, float] = field(default_factory=dict)  # examples learned at a pace of their own: their length (s)
+    unlike: list[TaughtRepetition] = field(default_factory=list)  # counter-examples: motions it is not (whole takes)
     loop: float | None = None  # a profile's override of how much a performance must loop (loops.py); not in the file
 
     def completes_at(self, postures: int) -> int:
@@ -59,19 +61,25 @@ class LearnedGesture:
             "threshold": round(float(self.threshold), 4), "fires_at": round(float(self.fires_at), 3),
             "rate_hz": self.rate_hz, "weights": [round(float(w), 3) for w in self.weights],
             "features": "left x y z, right x y z: hand minus torso over head-torso distance; +x performer's right",
-            "repetitions": [{"source": r.source, "start": round(r.start, 3), "end": round(r.end, 3),
-                             **({"score": round(r.score, 4)} if r.score is not None else {}),
-                             "postures": np.round(r.postures, 3).tolist()} for r in self.repetitions],
+            "repetitions": [_entry(r) for r in self.repetitions],
+            **({"unlike": [_entry(u) for u in self.unlike]} if self.unlike else {}),
         }
 
     def save(self, path: Path) -> None:
         text = json.dumps(self.to_json(), separators=(",", ":"))
         # one repetition per line: diffable, and still one JSON document
         text = text.replace(',{"source"', ',\n{"source"').replace('"repetitions":[{', '"repetitions":[\n{')
+        text = text.replace('"unlike":[{', '"unlike":[\n{')
         try:
             path.write_text(text + "\n", encoding="utf-8")
         except OSError as error:
             raise UserError(f"{path}: cannot write the learned gesture ({error.strerror})") from None
+
+
+def _entry(r: TaughtRepetition) -> dict:
+    return {"source": r.source, "start": round(r.start, 3), "end": round(r.end, 3),
+            **({"score": round(r.score, 4)} if r.score is not None else {}),
+            "postures": np.round(r.postures, 3).tolist()}
 
 
 def load(path: Path | str) -> LearnedGesture:
@@ -108,19 +116,27 @@ def from_json(doc: dict, where: str) -> LearnedGesture:
     rate = _field(doc, "rate_hz", number, where, lambda v: v > 0, "a number > 0")
     weights = _field(doc, "weights", list, where, lambda v: len(v) == 6 and all(
         isinstance(w, number) and w >= 0 for w in v), "6 numbers >= 0")
-    reps = []
-    for i, r in enumerate(_field(doc, "repetitions", list, where, lambda v: len(v) > 0, "a list of repetitions")):
-        at = f"{where}: repetitions[{i}]"
+    reps = _entries(_field(doc, "repetitions", list, where, lambda v: len(v) > 0, "a list of repetitions"),
+                    f"{where}: repetitions")
+    unlike = _entries(_field(doc, "unlike", list, where, expect="a list of counter-examples") if "unlike" in doc
+                      else [], f"{where}: unlike")
+    return LearnedGesture(name.strip(), hands, float(threshold), float(fires_at), np.asarray(weights, float),
+                          reps, float(rate), unlike=unlike)
+
+
+def _entries(items: list, at: str) -> list[TaughtRepetition]:
+    """Repetitions (or counter-examples) as written by `_entry`; a bad one is a UserError naming it."""
+    out = []
+    for i, r in enumerate(items):
         if not isinstance(r, dict):
-            raise UserError(f"{at}: expected an object with source, start, end, postures")
+            raise UserError(f"{at}[{i}]: expected an object with source, start, end, postures")
         try:
             postures = np.asarray(r.get("postures"), dtype=float)
         except (TypeError, ValueError):
             postures = np.zeros((0,))
         if postures.ndim != 2 or postures.shape[1] != 6 or len(postures) < 2 or not np.all(np.isfinite(postures)):
-            raise UserError(f"{at}.postures: expected rows of 6 finite numbers (at least 2 rows)")
-        reps.append(TaughtRepetition(str(r.get("source", "?")), float(r.get("start", 0.0)),
-                                     float(r.get("end", 0.0)), postures,
-                                     float(r["score"]) if isinstance(r.get("score"), number) else None))
-    return LearnedGesture(name.strip(), hands, float(threshold), float(fires_at), np.asarray(weights, float),
-                          reps, float(rate))
+            raise UserError(f"{at}[{i}].postures: expected rows of 6 finite numbers (at least 2 rows)")
+        score = r.get("score")
+        out.append(TaughtRepetition(str(r.get("source", "?")), float(r.get("start", 0.0)), float(r.get("end", 0.0)),
+                                    postures, float(score) if isinstance(score, (int, float)) else None))
+    return out

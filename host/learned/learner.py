@@ -52,6 +52,12 @@ def repetitions(take: Take) -> list[TaughtRepetition]:
             for r in find_repetitions(take.t, take.postures)]
 
 
+def counter_example(take: Take) -> TaughtRepetition:
+    """A take of what the gesture is not (`issv learn --unlike`), kept whole: every moment of it is
+    "none" to the classifier (classifier.py), however much of it is rest."""
+    return TaughtRepetition(take.source, float(take.t[0]), float(take.t[-1]), take.postures)
+
+
 def typical_length(reps: Sequence[TaughtRepetition]) -> float:
     return float(np.median([r.duration for r in reps]))
 
@@ -121,11 +127,17 @@ def taught_before(gesture: LearnedGesture) -> list[TaughtRepetition]:
     return [replace(r, postures=resampled(r.postures, gesture.rate_hz), score=None) for r in gesture.repetitions]
 
 
+def unlike_before(gesture: LearnedGesture) -> list[TaughtRepetition]:
+    """A learned gesture's counter-examples, at RATE_HZ, kept when it is taught more."""
+    return [replace(u, postures=resampled(u.postures, gesture.rate_hz)) for u in gesture.unlike]
+
+
 def learn(name: str, takes: list[Take], fires_at: float = FIRES_AT,
-          before: Sequence[TaughtRepetition] = ()) -> LearnedGesture:
+          before: Sequence[TaughtRepetition] = (), unlike: Sequence[TaughtRepetition] = ()) -> LearnedGesture:
     """The learned gesture; UserError when the takes hold fewer than two repetitions. `before`:
     repetitions of a gesture learned before (`taught_before`), learned again with the takes' own
-    (a performer whose style the first teachers never showed, added to what they taught)."""
+    (a performer whose style the first teachers never showed, added to what they taught); `unlike`:
+    counter-examples (`counter_example`), motions it must not be taken for."""
     found_now = [r for take in takes for r in repetitions(take)]
     found = {take.source: sum(r.source == take.source for r in found_now) for take in takes}
     reps = list(before) + found_now
@@ -145,7 +157,7 @@ def learn(name: str, takes: list[Take], fires_at: float = FIRES_AT,
         reps = [reps[i] for i in np.linspace(0, len(reps) - 1, MAX_REPETITIONS).round().astype(int)]
     hands, weights = hands_used(reps)
     gesture = LearnedGesture(name, hands, 1.0, fires_at, weights, reps, RATE_HZ)
-    gesture.left_out, gesture.found, gesture.paces = odd, found, paces
+    gesture.left_out, gesture.found, gesture.paces, gesture.unlike = odd, found, paces, list(unlike)
     scores = consistency(gesture)
     for rep, score in zip(reps, scores):
         rep.score = float(score) if np.isfinite(score) else None

@@ -136,7 +136,8 @@ class Matcher:
         self.done = np.full(len(gestures), -(10 ** 9))  # the tick each gesture last completed
         self.announced = np.zeros(len(gestures), bool)  # IN_PROGRESS said for the current attempt
         self._rows = np.arange(m)
-        self.classifier = classifier or (trained(taught) if classify and gestures else None)
+        unlike = [[resampled(u.postures, g.rate_hz) for u in g.unlike] for g in gestures]
+        self.classifier = classifier or (trained(taught, unlike) if classify and gestures else None)
         self.loops = LoopCheck(gestures, taught)
         self._history: deque[np.ndarray] = deque(maxlen=int(self.band[-1]) + 1)  # postures a path may span
         self._score = np.full(m, np.inf)  # each template's score at its `fires_at` point, this posture

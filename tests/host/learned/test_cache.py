@@ -37,7 +37,8 @@ def trainings(tmp_path, monkeypatch) -> list[int]:
     monkeypatch.setattr(cache, "TRAINED", {})
     done: list[int] = []
     train = Classifier.train
-    monkeypatch.setattr(Classifier, "train", staticmethod(lambda taught: done.append(len(taught)) or train(taught)))
+    monkeypatch.setattr(Classifier, "train", staticmethod(
+        lambda taught, unlike=None: done.append(len(taught)) or train(taught, unlike)))
     return done
 
 
@@ -86,12 +87,17 @@ def _threshold(doc: dict) -> None:
     doc["threshold"] *= 1.5
 
 
+def _counter_example(doc: dict) -> None:
+    doc["unlike"] = [{**doc["repetitions"][0], "source": "not-this.csv"}]
+
+
 @pytest.mark.parametrize("change, trained_again", [
     (lambda files, folder: _edited(files, folder, _nudge_one_repetition), True),
     (lambda files, folder: files[::-1], True),  # the classes are in load order
+    (lambda files, folder: _edited(files, folder, _counter_example), True),  # `issv learn --unlike`
     (lambda files, folder: _edited(files, folder, _threshold), False),  # the classifier does not use it
     (lambda files, folder: _edited(files, folder, lambda doc: None), False),  # the same contents elsewhere
-], ids=["one-repetition-altered", "another-order", "threshold-edited", "copied"])
+], ids=["one-repetition-altered", "another-order", "counter-example-added", "threshold-edited", "copied"])
 def test_only_what_training_depends_on_makes_another_entry(files, trainings, tmp_path, change, trained_again):
     loaded(files)
     a_new_process()

@@ -15,7 +15,7 @@ from host.learned.examples import parse_example, read_take
 from host.learned.learner import learn, taught_before
 from host.learned.recognizer import LearnedRecognizer
 from host.learned.segment import find_repetitions
-from tests.host.learned.performer import REST, Performer, circle, punch, still
+from tests.host.learned.performer import REST, Performer, circle, punch, raise_hand, still, throw
 
 
 @pytest.fixture(scope="module")
@@ -164,6 +164,10 @@ def test_bad_gesture_files_say_which_field(tmp_path, taught):
     bad.write_text(json.dumps(doc))
     with pytest.raises(UserError, match=r"bad.gesture.json: fires_at: expected a number in \(0, 1\]"):
         gesture_file.load(bad)
+    doc["fires_at"], doc["unlike"] = 0.75, [{"source": "raise.csv", "postures": [[0, 0, 0]]}]
+    bad.write_text(json.dumps(doc))
+    with pytest.raises(UserError, match=r"bad.gesture.json: unlike\[0\].postures: expected rows of 6 finite numbers"):
+        gesture_file.load(bad)
     bad.write_text("{not json")
     with pytest.raises(UserError, match="not a learned-gesture file"):
         gesture_file.load(bad)
@@ -195,6 +199,38 @@ def test_the_commands_learn_show_and_recognise(tmp_path, capsys):
     learned = [e for e in lines if e.get("native") == "learned"]
     assert [(e["name"], e["state"]) for e in learned] == [("roll", "in_progress"), ("roll", "complete")] * 2
     assert all(e["hands"] == [1, 2] and 0.5 <= e["confidence"] <= 1.0 for e in learned)
+
+
+def test_a_counter_example_is_not_taken_for_the_gesture(tmp_path, capsys):
+    """A throw that ends with the hand held up in front is taken, with a loose threshold, for a hand
+    raised there; taught with a raised hand as a counter-example (--unlike), it is not, and throws
+    still are. The counter-example is kept in the file, and again when the gesture is taught more."""
+    takes = []
+    for seed, size in ((1, 520.0), (2, 480.0)):
+        Performer(size_mm=size, seed=seed).write(tmp_path / f"throw_{seed}.csv", throw, 4, length_s=2.0)
+        takes.append(f"{tmp_path / f'throw_{seed}.csv'}")
+    Performer(size_mm=500.0, seed=9).write(tmp_path / "raise.csv", raise_hand, 2, length_s=2.6)
+    plain, unlike = tmp_path / "plain.gesture.json", tmp_path / "unlike.gesture.json"
+    assert issv(["learn", "throw", *takes, "--mirrored", "-o", str(plain)]) == 0
+    assert issv(["learn", "throw", *takes, "--unlike", str(tmp_path / "raise.csv"), "--mirrored",
+                 "-o", str(unlike)]) == 0
+    assert f"{tmp_path / 'raise.csv'}: unlike it, " in capsys.readouterr().out
+    for name, motion in (("throw", throw), ("raise", raise_hand)):
+        Performer(size_mm=600.0, seed=7).write(tmp_path / f"{name}.csv", motion, 3, length_s=2.4)
+    fired = {}
+    for path in (plain, unlike):
+        for name in ("throw", "raise"):
+            recognizer = LearnedRecognizer([gesture_file.load(path)], True, {"throw": 100.0})
+            fired[path.stem, name] = sum(e.state.value == "complete" for f in read_trajectories(tmp_path / f"{name}.csv")
+                                         for e in recognizer.update(f.t, f.hands, f.body))
+    assert fired == {("plain.gesture", "throw"): 3, ("plain.gesture", "raise"): 3,
+                     ("unlike.gesture", "throw"): 3, ("unlike.gesture", "raise"): 0}, fired
+    again = tmp_path / "again.gesture.json"
+    assert issv(["learn", "throw", str(unlike), takes[0], "--mirrored", "-o", str(again)]) == 0
+    assert issv(["learn", "--show", str(again)]) == 0
+    assert "unlike: 1 counter-examples" in capsys.readouterr().out
+    kept = gesture_file.load(again).unlike[0]
+    assert kept.source == str(tmp_path / "raise.csv") and len(kept.postures) > 50
 
 
 def test_a_performer_slower_than_the_teachers_teaches_the_gesture_more(tmp_path):
