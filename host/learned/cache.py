@@ -43,7 +43,7 @@ def trained(taught: list[list[np.ndarray]], unlike: list[list[np.ndarray]] | Non
 
 def _key(taught: list[list[np.ndarray]], unlike: list[list[np.ndarray]]) -> str:
     """A hash of everything training depends on: the repetitions and counter-examples in order, the
-    code, numpy. A set without counter-examples keeps the key it had before they existed."""
+    code, numpy. A set without counter-examples hashes as it did before they existed."""
     h = hashlib.sha256(FORMAT)
     h.update(Path(classifier.__file__).read_bytes())
     h.update(np.__version__.encode())
