@@ -236,18 +236,22 @@ def teach_more(folder: Path, files: list[Path], completed: dict) -> dict:
     return out
 
 
-def everyday(files: list[Path], folder: Path) -> dict | None:
+def kinder_motions(folder: Path) -> list[tuple[Path, dict]] | None:
+    """Kinder-Gator's motions and their truth (kinder-gator-dev beside msrc12-dev), None without it."""
+    kinder = folder.parent / "kinder-gator-dev"
+    if not kinder.is_dir():
+        return None
+    return [(csv, json.loads((kinder / "truth" / (csv.stem + ".json")).read_text()))
+            for csv in sorted(kinder.glob("*.csv"))]
+
+
+def everyday(files: list[Path], motions: list[tuple[Path, dict]]) -> dict:
     """The six, taught by p01-p03, on other people doing other things: Kinder-Gator's adults and
     children (kinder-gator-dev beside msrc12-dev) walking, running, jumping, bowing, kicking, where
     nothing may fire, and performing the built-in dictionary (wave, hand_raise, swipes, click),
     where no learned gesture should either. Per group, the share of motions in which one completes,
     which fired where, and how many attempts are announced (IN_PROGRESS) a minute while nothing may
-    fire. None without the folder."""
-    kinder = folder.parent / "kinder-gator-dev"
-    if not kinder.is_dir():
-        return None
-    motions = [(csv, json.loads((kinder / "truth" / (csv.stem + ".json")).read_text()))
-               for csv in sorted(kinder.glob("*.csv"))]
+    fire."""
     gestures = [load(f) for f in files]
     shares: dict[str, list[int]] = collections.defaultdict(lambda: [0, 0])
     fired = collections.defaultdict(collections.Counter)
@@ -271,29 +275,23 @@ def everyday(files: list[Path], folder: Path) -> dict | None:
 COUNTER = ("throw", "p604")  # the gesture taught with counter-examples, and whose raised hands they are
 
 
-def counter_examples(files: list[Path], folder: Path) -> dict | None:
+def counter_examples(files: list[Path], folder: Path, motions: list[tuple[Path, dict]], checked: dict) -> dict:
     """`issv learn --unlike` on the confusion `everyday` finds: throw learned again with one adult's
     two Kinder-Gator takes of a raised hand as counter-examples. Before and after: the other five
-    people's raised hands and waves with a learned gesture, and the judged protocol on p04-p10 (in
-    process). None without kinder-gator-dev."""
-    kinder = folder.parent / "kinder-gator-dev"
-    if not kinder.is_dir():
-        return None
+    people's raised hands and waves with a learned gesture, and the judged protocol on p04-p10
+    (`checked`, the protocol's figures, before; in process after)."""
     name, person = COUNTER
-    raises = sorted(kinder.glob(f"*_{person}_raise-your*.csv"))
+    raises = [c for c, t in motions if t["person"] == person and t["label"] == "hand_raise"]
+    others = [(c, t) for c, t in motions if t["label"] in ("hand_raise", "wave") and t["person"] != person]
     plain = [load(f) for f in files]
     unlike = [counter_example(read_take(str(c), True)) for c in raises]
     taught = [learn(g.name, [], before=taught_before(g), unlike=unlike) if g.name == name else g for g in plain]
-    others = [(c, t) for c, t in ((c, json.loads((kinder / "truth" / (c.stem + ".json")).read_text()))
-                                  for c in sorted(kinder.glob("*.csv")))
-              if t["label"] in ("hand_raise", "wave") and t["person"] != person]
+    after = score(recognised(taught, streams(folder, CHECKED), "p04-p10, with --unlike"))
     out = {"gesture": name, "unlike": [c.name for c in raises], "motions": len(others)}
-    for label, gestures in (("before", plain), ("after", taught)):
+    for label, gestures, s in (("before", plain, checked), ("after", taught, after)):
         fired = recognised(gestures, others, f"raised hands and waves, {label} --unlike")
-        checked = score(recognised(gestures, streams(folder, CHECKED), f"p04-p10, {label} --unlike"))
-        out[label] = {"fired_share": sum(bool(e) for _, e in fired) / len(others),
-                      "mean_recall": checked["mean_recall"], "false_fire_rate": checked["false_fire_rate"],
-                      "recall": checked["recall"][name]}
+        out[label] = {"fired_share": sum(bool(e) for _, e in fired) / len(others), "mean_recall": s["mean_recall"],
+                      "false_fire_rate": s["false_fire_rate"], "recall": s["recall"][name]}
     return out
 
 
@@ -325,8 +323,9 @@ def main() -> None:
         checked, files, learn_s, completed = protocol(folder, Path(tmp))
         timing = cost(files, folder)
         more = teach_more(folder, files, completed)
-        others = everyday(files, folder)
-        unlike = counter_examples(files, folder)
+        motions = kinder_motions(folder)
+        others = None if motions is None else everyday(files, motions)
+        unlike = None if motions is None else counter_examples(files, folder, motions, checked)
     timing["learn_s_slowest_gesture"] = learn_s
     teachers = None if args.skip_teachers else teacher_side(folder)
     figures = {"checked_p04_p10": checked, "teachers_leave_one_out": teachers, "teach_more": more,
