@@ -96,6 +96,11 @@ def taught_repetitions(gestures: list[LearnedGesture]) -> list[list[np.ndarray]]
     return [[resampled(r.postures, g.rate_hz) for r in g.repetitions] for g in gestures]
 
 
+def counter_examples(gestures: list[LearnedGesture]) -> list[list[np.ndarray]]:
+    """Each gesture's counter-examples at RATE_HZ: "none" to the classifier."""
+    return [[resampled(u.postures, g.rate_hz) for u in g.unlike] for g in gestures]
+
+
 class Matcher:
     """Fed one posture at a time (RATE_HZ); says which learned gestures it completes."""
 
@@ -136,8 +141,7 @@ class Matcher:
         self.done = np.full(len(gestures), -(10 ** 9))  # the tick each gesture last completed
         self.announced = np.zeros(len(gestures), bool)  # IN_PROGRESS said for the current attempt
         self._rows = np.arange(m)
-        unlike = [[resampled(u.postures, g.rate_hz) for u in g.unlike] for g in gestures]
-        self.classifier = classifier or (trained(taught, unlike) if classify and gestures else None)
+        self.classifier = classifier or (trained(taught, counter_examples(gestures)) if classify and gestures else None)
         self.loops = LoopCheck(gestures, taught)
         self._history: deque[np.ndarray] = deque(maxlen=int(self.band[-1]) + 1)  # postures a path may span
         self._score = np.full(m, np.inf)  # each template's score at its `fires_at` point, this posture
