@@ -27,6 +27,7 @@ Needs ISSV_DATA (the folder holding msrc12-dev); without it says so and exits.
 from __future__ import annotations
 
 import collections
+import dataclasses
 import json
 import os
 import subprocess
@@ -285,7 +286,7 @@ def counter_examples(files: list[Path], folder: Path, motions: list[tuple[Path, 
     others = [(c, t) for c, t in motions if t["label"] in ("hand_raise", "wave") and t["person"] != person]
     plain = [load(f) for f in files]
     unlike = [counter_example(read_take(str(c), True)) for c in raises]
-    taught = [learn(g.name, [], before=taught_before(g), unlike=unlike) if g.name == name else g for g in plain]
+    taught = [dataclasses.replace(g, unlike=unlike) if g.name == name else g for g in plain]
     after = score(recognised(taught, streams(folder, CHECKED), "p04-p10, with --unlike"))
     out = {"gesture": name, "unlike": [c.name for c in raises], "motions": len(others)}
     for label, gestures, s in (("before", plain, checked), ("after", taught, after)):
