@@ -12,6 +12,8 @@ Also, teacher side (how the design parameters were chosen): leave one teacher ou
 other two, score the third the same way (in process, the same functions). And p04-p10 in halves,
 p04-p07 and p08-p10: a choice the teachers cannot show (a style only other people perform too) is
 made on one half and checked on the other (learner.own_paces).
+Thresholds (`loosened`): every gesture's threshold scaled as a profile may override it, and the
+worst-found gesture's alone: how much loosening finds, and what it costs in false fires.
 Teach more: a performer the teachers' gesture misses teaches their own style on top of the
 teachers' file, from the first half of their recording; recall on the rest, before and after
 (`teach_more`). Other people doing other things (`everyday`): the six on Kinder-Gator's adults
@@ -180,11 +182,40 @@ def recognise(recognizer: LearnedRecognizer, csv: Path) -> tuple[list[tuple[floa
     return events, (times[-1] - times[0] if times else 0.0)
 
 
-def recognised(gestures: list, checked: list[tuple[Path, dict]],
-               what: str) -> list[tuple[dict, list[tuple[float, str]]]]:
+def recognised(gestures: list, checked: list[tuple[Path, dict]], what: str,
+               thresholds: dict[str, float] | None = None) -> list[tuple[dict, list[tuple[float, str]]]]:
     """(truth, COMPLETE events) of each recording, in process (every recogniser of the set shares
-    one classifier, trained once), with a progress bar saying `what` runs."""
-    return [(t, _completes(recognise(LearnedRecognizer(gestures, True), c)[0])) for c, t in tracked(checked, what)]
+    one classifier, trained once), with a progress bar saying `what` runs; `thresholds`: a
+    profile's overrides by gesture name."""
+    return [(t, _completes(recognise(LearnedRecognizer(gestures, True, thresholds), c)[0]))
+            for c, t in tracked(checked, what)]
+
+
+SCALES = (0.85, 1.15, 1.3, 2.0)  # thresholds as a share of the taught ones, as a profile may set them
+
+
+def loosened(files: list[Path], folder: Path, checked: dict) -> dict:
+    """The profile's per-gesture `threshold` as the remedy for a missed gesture: every gesture's
+    threshold scaled, then the worst-found gesture's alone, by each of SCALES; p04-p10's mean
+    recall, that gesture's recall and the false fires at each (1: the protocol's own figures). A
+    miss just beyond the threshold comes back when it is loosened; a style the teachers never
+    showed does not (docs/learned-gestures.md, "Teaching more")."""
+    gestures = [load(f) for f in files]
+    worst = min(checked["recall"], key=checked["recall"].get)
+    recordings = streams(folder, CHECKED)
+
+    def point(s: dict) -> dict:
+        return {"mean_recall": s["mean_recall"], "recall": s["recall"][worst], "false_fire_rate": s["false_fire_rate"]}
+
+    out = {"gesture": worst, "all": {1.0: point(checked)}, "alone": {1.0: point(checked)}}
+    for scale in SCALES:
+        for which, names in (("all", [g.name for g in gestures]), ("alone", [worst])):
+            if which == "alone" and scale < 1.0:
+                continue  # tightening one gesture cannot find it more often
+            thresholds = {g.name: (scale if g.name in names else 1.0) * g.threshold for g in gestures}
+            runs = recognised(gestures, recordings, f"thresholds x{scale} ({which})", thresholds)
+            out[which][scale] = point(score(runs))
+    return out
 
 
 def teacher_side(folder: Path) -> dict:
@@ -323,6 +354,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         checked, files, learn_s, completed = protocol(folder, Path(tmp))
         timing = cost(files, folder)
+        loose = loosened(files, folder, checked)
         more = teach_more(folder, files, completed)
         motions = kinder_motions(folder)
         others = None if motions is None else everyday(files, motions)
@@ -330,7 +362,7 @@ def main() -> None:
     timing["learn_s_slowest_gesture"] = learn_s
     teachers = None if args.skip_teachers else teacher_side(folder)
     figures = {"checked_p04_p10": checked, "teachers_leave_one_out": teachers, "teach_more": more,
-               "everyday_motions": others, "counter_examples": unlike, "cost": timing,
+               "thresholds_scaled": loose, "everyday_motions": others, "counter_examples": unlike, "cost": timing,
                "targets": {"mean_recall": 0.9, "worst_gesture_recall": 0.75, "worst_person_recall": 0.75,
                            "false_fire_rate": 0.10, "ms_per_frame": 1.0}}
     rows = []
@@ -342,6 +374,10 @@ def main() -> None:
         rows.append([label, "mean recall / false fires", s["mean_recall"], f"{s['false_fire_rate']:.3f}"])
     rows += [[half, "mean recall / false fires (worst person)", s["mean_recall"],
               f"{s['false_fire_rate']:.3f} ({s['worst_person_recall']:.2f})"] for half, s in checked["halves"].items()]
+    for which, label in (("all", "every gesture's threshold"), ("alone", f"{loose['gesture']}'s threshold alone")):
+        rows += [["thresholds", f"{label} x{scale:g}: mean recall / false fires ({loose['gesture']}'s recall)",
+                  p["mean_recall"], f"{p['false_fire_rate']:.3f} ({p['recall']:.2f})"]
+                 for scale, p in sorted(loose[which].items())]
     rows += [["teach more", f"{case}: the rest of their recordings", m["recall_after"],
               f"{m['false_fire_rate_before']:.3f} -> {m['false_fire_rate_after']:.3f}; recall was {m['recall_before']:.2f}"]
              for case, m in more.items()]
