@@ -7,8 +7,9 @@ performer's right whichever way the camera mirrors. Postures are resampled to a 
 that templates and live streams line up whatever the camera's frame rate.
 
 Without body points (a depth backend that reports hands only) the torso is estimated from the
-hands: the place they hang at rest, a body size below it. Good enough for a performer who stands
-in one place; say so when teaching.
+hands: the place they last hung at rest, a body size below it. Rest is the lowest the hands have
+been over the last _REST_WINDOW_S, not the last few seconds: a performer gesturing on and on with
+the hands up would otherwise pull the torso up with them (docs/learned-gestures.md gives the cost).
 """
 from __future__ import annotations
 
@@ -25,7 +26,10 @@ DEFAULT_SIZE_MM = 520.0  # head-torso distance of an adult, used until a head is
 HAND_HOLD_S = 0.5  # a hand unseen for longer hangs at rest (a depth engine reports only hands held out)
 REST_PLACE = {Side.LEFT: (-0.3, -0.6, -0.25), Side.RIGHT: (0.3, -0.6, -0.25)}  # hands at rest, body units
 _SIZE_WINDOW = 60  # head-torso distances in the running median (two seconds at 30 Hz)
-_REST_WINDOW_S = 4.0  # without a torso: how long the hands' resting place is looked for
+_REST_WINDOW_S = 40.0  # without a torso: how far back the hands' resting place is looked for, ...
+_REST_SHARE = 5.0  # ... as the lowest this percent of their places (2 s of the 40: a performer rests that long) ...
+_REST_LAST_S = 2.0  # ... where they hung there last (its last this many seconds): a performer who walks is followed
+_REST_EVERY_S = 0.1  # one hand place kept per this many seconds (400 over the window, whatever the frame rate)
 
 
 @dataclass
@@ -115,19 +119,25 @@ class PostureStream:
         return np.concatenate(rel)
 
     def _estimated_torso(self, t: float, seen: dict[Side, np.ndarray], size: float) -> np.ndarray:
-        """No skeleton: where the torso is when the hands' lowest place of the last seconds is rest
-        (a hand unseen is taken to hang at rest, where the seen one's partner would)."""
+        """No skeleton: the torso below where the hands last hung at rest, rest being their lowest
+        places of the window (a hand unseen is taken to hang at rest, where the seen one's partner
+        would)."""
         if len(seen) == 2:
             middle = (seen[Side.LEFT] + seen[Side.RIGHT]) / 2
         else:
             side, place = next(iter(seen.items()))
             middle = place - self.flip * np.array([REST_PLACE[side][0] * size, 0.0, 0.0])
-        self._low.append((t, middle))
-        while self._low and t - self._low[0][0] > _REST_WINDOW_S:
+        if not self._low or t - self._low[-1][0] >= _REST_EVERY_S:
+            self._low.append((t, middle))
+        while t - self._low[0][0] > _REST_WINDOW_S:
             self._low.popleft()
-        places = np.array([p for _, p in self._low])
-        rest = places[np.argmin(places[:, 1])] if len(places) < 5 else places[places[:, 1] <= np.percentile(
-            places[:, 1], 20)].mean(axis=0)
+        times = np.array([when for when, _ in self._low])
+        places = np.array([place for _, place in self._low])
+        if len(places) < 5:
+            rest = places[np.argmin(places[:, 1])]
+        else:
+            low = places[:, 1] <= np.percentile(places[:, 1], _REST_SHARE)
+            rest = places[low & (times >= times[low].max() - _REST_LAST_S)].mean(axis=0)
         return rest - np.array([0.0, REST_PLACE[Side.LEFT][1], REST_PLACE[Side.LEFT][2]]) * size
 
 
