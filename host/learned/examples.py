@@ -37,8 +37,8 @@ def _csv(path: Path, mirrored: bool) -> tuple[Frames, bool]:
 
 def _clip(path: Path, backend: str) -> tuple[Frames, bool]:
     """A depth clip through a backend's tracker (hands only: the torso is estimated)."""
-    from host.commands.track import _plugin
-    source_cls, backend_cls = _plugin("sources", "clip"), _plugin("backends", backend)
+    from host.app import plugin_class
+    source_cls, backend_cls = plugin_class("sources", "clip"), plugin_class("backends", backend)
     tracked = []
     mirrored = True
     with backend_cls(source_cls(source_cls.Options(path=str(path))), backend_cls.Options()) as tracker:
