@@ -12,6 +12,8 @@ Also, teacher side (how the design parameters were chosen): leave one teacher ou
 other two, score the third the same way (in process, the same functions). And p04-p10 in halves,
 p04-p07 and p08-p10: a choice the teachers cannot show (a style only other people perform too) is
 made on one half and checked on the other (learner.own_paces).
+Hands only (`hands_only`): the protocol with the torso and head rows left out, teaching and
+checking alike, as a backend that reports hands alone gives them (the torso is then estimated).
 Thresholds (`loosened`): every gesture's threshold scaled as a profile may override it, and the
 worst-found gesture's alone: how much loosening finds, and what it costs in false fires.
 Teach more: a performer the teachers' gesture misses teaches their own style on top of the
@@ -46,7 +48,8 @@ from host.commands.gestures import read_trajectories
 from host.learned.classifier import Classifier
 from host.learned.examples import read_take
 from host.learned.gesture_file import load
-from host.learned.learner import counter_example, learn, taught_before
+from host.learned.features import postures
+from host.learned.learner import Take, counter_example, learn, taught_before
 from host.learned.matcher import taught_repetitions
 from host.learned.recognizer import LearnedRecognizer
 
@@ -112,6 +115,11 @@ def score(runs: list[tuple[dict, list[tuple[float, str]]]]) -> dict:
             "delay_s_p50": {g: float(np.median(v)) for g, v in delays.items() if v}}
 
 
+def by_halves(runs: list[tuple[dict, list[tuple[float, str]]]]) -> dict:
+    """`score` of p04-p07 and of p08-p10 apart (HALVES)."""
+    return {half: score([(t, e) for t, e in runs if t["person"] in persons]) for half, persons in HALVES.items()}
+
+
 def _issv(*args: str) -> str:
     r = subprocess.run([sys.executable, "-m", "host", *args], capture_output=True, text=True, timeout=1200)
     if r.returncode != 0:
@@ -167,28 +175,44 @@ def protocol(folder: Path, workdir: Path, jobs: int = 2) -> tuple[dict, list[Pat
     events = [_learned(o) for o in outs]
     completed = {c: _completes(e) for (c, _), e in zip(checked, events)}
     out = score([(t, completed[c]) for c, t in checked])
-    out["halves"] = {half: score([(t, completed[c]) for c, t in checked if t["person"] in persons])
-                     for half, persons in HALVES.items()}
+    out["halves"] = by_halves([(t, completed[c]) for c, t in checked])
     out["in_progress"] = announced(events)
     return out, files, max(learn_s), completed
 
 
-def recognise(recognizer: LearnedRecognizer, csv: Path) -> tuple[list[tuple[float, str, str]], float]:
-    """(t, name, state) of every event on a recording, and its length in seconds."""
+def recognise(recognizer: LearnedRecognizer, csv: Path, body: bool = True) -> tuple[list[tuple[float, str, str]], float]:
+    """(t, name, state) of every event on a recording, and its length in seconds; body=False: its
+    torso and head rows left out."""
     events, times = [], []
     for frame in read_trajectories(csv):
         times.append(frame.t)
-        events += [(e.timestamp, e.name, e.state.value) for e in recognizer.update(frame.t, frame.hands, frame.body)]
+        events += [(e.timestamp, e.name, e.state.value)
+                   for e in recognizer.update(frame.t, frame.hands, frame.body if body else {})]
     return events, (times[-1] - times[0] if times else 0.0)
 
 
 def recognised(gestures: list, checked: list[tuple[Path, dict]], what: str,
-               thresholds: dict[str, float] | None = None) -> list[tuple[dict, list[tuple[float, str]]]]:
+               thresholds: dict[str, float] | None = None, body: bool = True) -> list[tuple[dict, list[tuple[float, str]]]]:
     """(truth, COMPLETE events) of each recording, in process (every recogniser of the set shares
     one classifier, trained once), with a progress bar saying `what` runs; `thresholds`: a
-    profile's overrides by gesture name."""
-    return [(t, _completes(recognise(LearnedRecognizer(gestures, True, thresholds), c)[0]))
+    profile's overrides by gesture name; body=False: hands only."""
+    return [(t, _completes(recognise(LearnedRecognizer(gestures, True, thresholds), c, body)[0]))
             for c, t in tracked(checked, what)]
+
+
+def hands_only(folder: Path) -> dict:
+    """The protocol with every torso and head row left out, teaching and checking alike, as a backend
+    reporting hands only gives them: the torso is estimated from where the hands rest
+    (host/learned/features.py). In process; p04-p10 and its halves."""
+    def take(csv: Path) -> Take:
+        return Take(str(csv), *postures(((f.t, f.hands, {}) for f in read_trajectories(csv)), True))
+
+    gestures = [learn(name, [take(c) for c, t in streams(folder, TEACHERS) if t["gesture"] == g])
+                for g, name in SIX.items()]
+    runs = recognised(gestures, streams(folder, CHECKED), "hands only, p04-p10", body=False)
+    out = score(runs)
+    out["halves"] = by_halves(runs)
+    return out
 
 
 SCALES = (0.85, 1.15, 1.3, 2.0)  # thresholds as a share of the taught ones, as a profile may set them
@@ -355,6 +379,7 @@ def main() -> None:
         checked, files, learn_s, completed = protocol(folder, Path(tmp))
         timing = cost(files, folder)
         loose = loosened(files, folder, checked)
+        bodiless = hands_only(folder)
         more = teach_more(folder, files, completed)
         motions = kinder_motions(folder)
         others = None if motions is None else everyday(files, motions)
@@ -362,7 +387,7 @@ def main() -> None:
     timing["learn_s_slowest_gesture"] = learn_s
     teachers = None if args.skip_teachers else teacher_side(folder)
     figures = {"checked_p04_p10": checked, "teachers_leave_one_out": teachers, "teach_more": more,
-               "thresholds_scaled": loose, "everyday_motions": others, "counter_examples": unlike, "cost": timing,
+               "thresholds_scaled": loose, "hands_only": bodiless, "everyday_motions": others, "counter_examples": unlike, "cost": timing,
                "targets": {"mean_recall": 0.9, "worst_gesture_recall": 0.75, "worst_person_recall": 0.75,
                            "false_fire_rate": 0.10, "ms_per_frame": 1.0}}
     rows = []
@@ -374,6 +399,9 @@ def main() -> None:
         rows.append([label, "mean recall / false fires", s["mean_recall"], f"{s['false_fire_rate']:.3f}"])
     rows += [[half, "mean recall / false fires (worst person)", s["mean_recall"],
               f"{s['false_fire_rate']:.3f} ({s['worst_person_recall']:.2f})"] for half, s in checked["halves"].items()]
+    rows += [["hands only", f"{part}: mean recall / false fires (worst person)", h["mean_recall"],
+              f"{h['false_fire_rate']:.3f} ({h['worst_person_recall']:.2f})"]
+             for part, h in (("p04-p10", bodiless), *bodiless["halves"].items())]
     for which, label in (("all", "every gesture's threshold"), ("alone", f"{loose['gesture']}'s threshold alone")):
         rows += [["thresholds", f"{label} x{scale:g}: mean recall / false fires ({loose['gesture']}'s recall)",
                   p["mean_recall"], f"{p['false_fire_rate']:.3f} ({p['recall']:.2f})"]
