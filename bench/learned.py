@@ -387,7 +387,8 @@ def main() -> None:
     timing["learn_s_slowest_gesture"] = learn_s
     teachers = None if args.skip_teachers else teacher_side(folder)
     figures = {"checked_p04_p10": checked, "teachers_leave_one_out": teachers, "teach_more": more,
-               "thresholds_scaled": loose, "hands_only": bodiless, "everyday_motions": others, "counter_examples": unlike, "cost": timing,
+               "thresholds_scaled": loose, "hands_only": bodiless, "everyday_motions": others,
+               "counter_examples": unlike, "cost": timing,
                "targets": {"mean_recall": 0.9, "worst_gesture_recall": 0.75, "worst_person_recall": 0.75,
                            "false_fire_rate": 0.10, "ms_per_frame": 1.0}}
     rows = []
@@ -397,11 +398,13 @@ def main() -> None:
         rows += [[label, g, r, ""] for g, r in s["recall"].items()]
         rows += [[label, f"person {p}", r, ""] for p, r in s["by_person"].items()]
         rows.append([label, "mean recall / false fires", s["mean_recall"], f"{s['false_fire_rate']:.3f}"])
-    rows += [[half, "mean recall / false fires (worst person)", s["mean_recall"],
-              f"{s['false_fire_rate']:.3f} ({s['worst_person_recall']:.2f})"] for half, s in checked["halves"].items()]
-    rows += [["hands only", f"{part}: mean recall / false fires (worst person)", h["mean_recall"],
-              f"{h['false_fire_rate']:.3f} ({h['worst_person_recall']:.2f})"]
-             for part, h in (("p04-p10", bodiless), *bodiless["halves"].items())]
+
+    def overall(label: str, what: str, s: dict) -> list:
+        return [label, f"{what}mean recall / false fires (worst person)", s["mean_recall"],
+                f"{s['false_fire_rate']:.3f} ({s['worst_person_recall']:.2f})"]
+
+    rows += [overall(half, "", s) for half, s in checked["halves"].items()]
+    rows += [overall("hands only", f"{part}: ", s) for part, s in (("p04-p10", bodiless), *bodiless["halves"].items())]
     for which, label in (("all", "every gesture's threshold"), ("alone", f"{loose['gesture']}'s threshold alone")):
         rows += [["thresholds", f"{label} x{scale:g}: mean recall / false fires ({loose['gesture']}'s recall)",
                   p["mean_recall"], f"{p['false_fire_rate']:.3f} ({p['recall']:.2f})"]
