@@ -1,4 +1,6 @@
 """Postures without body points: the torso estimated from where the hands hang at rest."""
+from typing import Callable
+
 import numpy as np
 
 from host.learned.features import DEFAULT_SIZE_MM, REST_PLACE, PostureStream
@@ -19,7 +21,10 @@ def gesturing(torso: np.ndarray, side: Side, t: float) -> np.ndarray:
     return torso + np.array([sign * 250 + 150 * np.cos(3 * t), 150 + 150 * np.sin(3 * t), -350.0])
 
 
-def torso_errors(script: list[tuple[float, callable]]) -> list[tuple[float, np.ndarray]]:
+Script = list[tuple[float, Callable[[float], tuple[dict, np.ndarray]]]]
+
+
+def torso_errors(script: Script) -> list[tuple[float, np.ndarray]]:
     """Feed hands only (no torso, no head) along `script` ((seconds, hands_at(t) -> ({side: place},
     true torso))); return (t, estimated torso minus the true torso, mm) of every posture."""
     stream, out, t0 = PostureStream(mirrored=True), [], 0.0
