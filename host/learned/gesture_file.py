@@ -17,6 +17,7 @@ import numpy as np
 from host.errors import UserError
 
 FORMAT = "issv-learned-gesture"
+NUMBER = (int, float)  # what a numeric field may be in the JSON
 VERSION = 1
 HANDS = ("left", "right", "both")
 
@@ -110,12 +111,11 @@ def from_json(doc: dict, where: str) -> LearnedGesture:
                         "(written by a newer issv? update issv)")
     name = _field(doc, "name", str, where, lambda v: v.strip() != "" and "/" not in v, "a name without /")
     hands = _field(doc, "hands", str, where, lambda v: v in HANDS, " or ".join(HANDS))
-    number = (int, float)
-    threshold = _field(doc, "threshold", number, where, lambda v: v > 0, "a number > 0")
-    fires_at = _field(doc, "fires_at", number, where, lambda v: 0 < v <= 1, "a number in (0, 1]")
-    rate = _field(doc, "rate_hz", number, where, lambda v: v > 0, "a number > 0")
+    threshold = _field(doc, "threshold", NUMBER, where, lambda v: v > 0, "a number > 0")
+    fires_at = _field(doc, "fires_at", NUMBER, where, lambda v: 0 < v <= 1, "a number in (0, 1]")
+    rate = _field(doc, "rate_hz", NUMBER, where, lambda v: v > 0, "a number > 0")
     weights = _field(doc, "weights", list, where, lambda v: len(v) == 6 and all(
-        isinstance(w, number) and w >= 0 for w in v), "6 numbers >= 0")
+        isinstance(w, NUMBER) and w >= 0 for w in v), "6 numbers >= 0")
     reps = _entries(_field(doc, "repetitions", list, where, lambda v: len(v) > 0, "a list of repetitions"),
                     f"{where}: repetitions")
     unlike = _entries(_field(doc, "unlike", list, where, expect="a list of counter-examples") if "unlike" in doc
@@ -138,5 +138,5 @@ def _entries(items: list, at: str) -> list[TaughtRepetition]:
             raise UserError(f"{at}[{i}].postures: expected rows of 6 finite numbers (at least 2 rows)")
         score = r.get("score")
         out.append(TaughtRepetition(str(r.get("source", "?")), float(r.get("start", 0.0)), float(r.get("end", 0.0)),
-                                    postures, float(score) if isinstance(score, (int, float)) else None))
+                                    postures, float(score) if isinstance(score, NUMBER) else None))
     return out
