@@ -301,20 +301,21 @@ def kinder_motions(folder: Path) -> list[tuple[Path, dict]] | None:
             for csv in sorted(kinder.glob("*.csv"))]
 
 
-def everyday(files: list[Path], motions: list[tuple[Path, dict]]) -> dict:
+def everyday(files: list[Path], motions: list[tuple[Path, dict]]) -> tuple[dict, dict[Path, list]]:
     """The six, taught by p01-p03, on other people doing other things: Kinder-Gator's adults and
     children (kinder-gator-dev beside msrc12-dev) walking, running, jumping, bowing, kicking, where
     nothing may fire, and performing the built-in dictionary (wave, hand_raise, swipes, click),
     where no learned gesture should either. Per group, the share of motions in which one completes,
     which fired where, and how many attempts are announced (IN_PROGRESS) a minute while nothing may
-    fire."""
+    fire; and each motion's COMPLETE events (for `counter_examples`' "before")."""
     gestures = [load(f) for f in files]
     shares: dict[str, list[int]] = collections.defaultdict(lambda: [0, 0])
     fired = collections.defaultdict(collections.Counter)
     null_attempts, null_s = 0, 0.0
+    completed = {}
     for csv, truth in tracked(motions, "the six on Kinder-Gator's motions"):
         events, seconds = recognise(LearnedRecognizer(gestures, True), csv)
-        done = _completes(events)
+        done = completed[csv] = _completes(events)
         kind = "null" if truth["label"] is None else "dictionary"
         shares[f"{kind} {truth['group']}"][0] += bool(done)
         shares[f"{kind} {truth['group']}"][1] += 1
@@ -325,17 +326,19 @@ def everyday(files: list[Path], motions: list[tuple[Path, dict]]) -> dict:
     return {"fired_share": {k: v[0] / v[1] for k, v in sorted(shares.items())},
             "motions": {k: v[1] for k, v in sorted(shares.items())},
             "fired_by_label": {label: dict(c) for label, c in sorted(fired.items()) if c},
-            "null_in_progress_per_min": null_attempts / max(1e-9, null_s / 60)}
+            "null_in_progress_per_min": null_attempts / max(1e-9, null_s / 60)}, completed
 
 
 COUNTER = ("throw", "p604")  # the gesture taught with counter-examples, and whose raised hands they are
 
 
-def counter_examples(files: list[Path], folder: Path, motions: list[tuple[Path, dict]], checked: dict) -> dict:
+def counter_examples(files: list[Path], folder: Path, motions: list[tuple[Path, dict]], checked: dict,
+                     completed: dict[Path, list]) -> dict:
     """`issv learn --unlike` on the confusion `everyday` finds: throw learned again with one adult's
     two Kinder-Gator takes of a raised hand as counter-examples. Before and after: the other five
     people's raised hands and waves with a learned gesture, and the judged protocol on p04-p10
-    (`checked`, the protocol's figures, before; in process after)."""
+    (before: the protocol's figures, `checked`, and `everyday`'s events, `completed`; after: in
+    process)."""
     name, person = COUNTER
     raises = [c for c, t in motions if t["person"] == person and t["label"] == "hand_raise"]
     others = [(c, t) for c, t in motions if t["label"] in ("hand_raise", "wave") and t["person"] != person]
@@ -344,8 +347,8 @@ def counter_examples(files: list[Path], folder: Path, motions: list[tuple[Path, 
     taught = [dataclasses.replace(g, unlike=unlike) if g.name == name else g for g in plain]
     after = score(recognised(taught, streams(folder, CHECKED), "p04-p10, with --unlike"))
     out = {"gesture": name, "unlike": [c.name for c in raises], "motions": len(others)}
-    for label, gestures, s in (("before", plain, checked), ("after", taught, after)):
-        fired = recognised(gestures, others, f"raised hands and waves, {label} --unlike")
+    fired_after = recognised(taught, others, "raised hands and waves, with --unlike")
+    for label, fired, s in (("before", [(t, completed[c]) for c, t in others], checked), ("after", fired_after, after)):
         out[label] = {"fired_share": sum(bool(e) for _, e in fired) / len(others), "mean_recall": s["mean_recall"],
                       "false_fire_rate": s["false_fire_rate"], "recall": s["recall"][name]}
     return out
@@ -382,8 +385,8 @@ def main() -> None:
         bodiless = hands_only(folder)
         more = teach_more(folder, files, completed)
         motions = kinder_motions(folder)
-        others = None if motions is None else everyday(files, motions)
-        unlike = None if motions is None else counter_examples(files, folder, motions, checked)
+        others, kinder_completed = (None, None) if motions is None else everyday(files, motions)
+        unlike = None if motions is None else counter_examples(files, folder, motions, checked, kinder_completed)
     timing["learn_s_slowest_gesture"] = learn_s
     teachers = None if args.skip_teachers else teacher_side(folder)
     figures = {"checked_p04_p10": checked, "teachers_leave_one_out": teachers, "teach_more": more,
