@@ -167,7 +167,7 @@ def main(args: argparse.Namespace) -> int:
     for source, reps in before.items():
         print(f"{source}: {len(reps)} repetitions taught before")
     for source, count in gesture.found.items():
-        print(f"{source}: {count} repetitions found")
+        print(f"{source}: {count} repetition{'s' * (count != 1)} found")
     for u in gesture.unlike:
         print(f"{u.source}: unlike it, {u.duration:.1f} s learned as none")
     for line in left_out(gesture):
