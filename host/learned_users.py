@@ -1,4 +1,4 @@
-"""Learned gestures per user, on the backends that report users (osc-in, mediapipe).
+"""Learned gestures per user, on the backends that report users (the open engine, osc-in, mediapipe).
 
 The host recognises learned gestures after the backend, on its hands (host/learned/backend.py).
 A backend that reports users (`Frame.users`) may carry several performers: each gets a learned
@@ -14,10 +14,9 @@ from typing import Any
 
 from host.contracts import Backend, Update
 from host.learned.backend import LearnedBackend
+from host.learned.features import body_of
 from host.learned.recognizer import LearnedRecognizer
 from host.model import Frame, Gesture, HandState, User
-
-BODY = ("torso", "head")  # the body points the learned features measure the hands against
 
 
 class _Given:
@@ -63,5 +62,4 @@ class LearnedByUser:
                 self._gestures, mirrored)
         t = frame.timestamp if frame.depth is not None else frame.capture_time
         hands = [h for h in frame.hands if h.user_id == user.id]
-        body = {name: user.joints[name].position for name in BODY if name in user.joints}
-        return [dataclasses.replace(g, user_id=user.id) for g in recognizer.update(t, hands, body)]
+        return [dataclasses.replace(g, user_id=user.id) for g in recognizer.update(t, hands, body_of(user))]

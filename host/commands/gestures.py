@@ -19,13 +19,13 @@ from pathlib import Path
 from typing import Iterator
 
 from host.errors import UserError
+from host.learned.features import BODY
 from host.learned.recognizer import LearnedRecognizer
 from host.model import Hand, HandState, Side, Vec3
 from host.plugins import default_registry
 
 HELP = "print the gesture events a backend's recogniser finds in a hand-trajectory CSV (t,hand,x,y,z)"
 COLUMNS = ("t", "hand", "x", "y", "z")
-BODY_POINTS = ("torso", "head")
 NAMED_HANDS = {"left": (1, Side.LEFT), "right": (2, Side.RIGHT)}  # id and side of a named hand
 
 
@@ -85,7 +85,7 @@ def _frames(path: Path, reader: csv.DictReader) -> Iterator[TrajectoryFrame]:
             frame = TrajectoryFrame(t)
         if position is None:
             continue  # an unknown position: the hand is not seen at this instant
-        if name in BODY_POINTS:
+        if name in BODY:
             frame.body[name] = position
         else:
             hand_id, side = _hand(path, line, name)

@@ -20,8 +20,8 @@ from host.app import plugin_class
 from host.commands.gestures import add_learned_argument
 from host.contracts import PluginUnavailable, Stage
 from host.errors import UserError
-from host.learned.backend import LearnedBackend
-from host.learned.recognizer import LearnedRecognizer
+from host.learned.gesture_file import load
+from host.learned_users import LearnedByUser
 from host.loop import Limits, PacedSource, Show
 from host.tap import SensorTap
 
@@ -39,7 +39,7 @@ def track(clip: Path, backend_cls, source_cls, tag: str | None, out, learned: li
     (on the sensor thread, in the order the backend made them)."""
     source = source_cls(source_cls.Options(path=str(clip)))
     inner = backend_cls(PacedSource(source, realtime=False), backend_cls.Options())
-    backend = LearnedBackend(inner, LearnedRecognizer.from_files(learned)) if learned else inner
+    backend = LearnedByUser(inner, [load(f) for f in learned]) if learned else inner  # as the show does
     extra = {"clip": tag} if tag is not None else {}
 
     def line(doc: dict) -> None:

@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import Iterator, Mapping, Sequence
 
 from host.errors import UserError
-from host.learned.features import postures
+from host.learned.features import performer_body, postures
 from host.learned.learner import Take
 from host.model import Hand
 
@@ -36,7 +36,8 @@ def _csv(path: Path, mirrored: bool) -> tuple[Frames, bool]:
 
 
 def _clip(path: Path, backend: str) -> tuple[Frames, bool]:
-    """A depth clip through a backend's tracker (hands only: the torso is estimated)."""
+    """A depth clip through a backend's tracker: its hands, measured against its performer's torso
+    and head when it reports users (the open engine does), as the show measures them."""
     from host.app import plugin_class
     source_cls, backend_cls = plugin_class("sources", "clip"), plugin_class("backends", backend)
     tracked = []
@@ -45,7 +46,7 @@ def _clip(path: Path, backend: str) -> tuple[Frames, bool]:
         while (frame := tracker.update()) is not None:
             if frame.depth is not None:
                 mirrored = frame.depth.mirrored
-            tracked.append((frame.timestamp, frame.hands, {}))
+            tracked.append((frame.timestamp, frame.hands, performer_body(frame)))
     return iter(tracked), mirrored
 
 
@@ -56,7 +57,8 @@ def _recording(path: Path, mirrored: bool) -> tuple[Frames, bool]:
         for frame in recording.frames():
             if frame.depth is not None:
                 mirrored = frame.depth.mirrored
-            out.append((frame.timestamp if frame.depth is not None else frame.capture_time, frame.hands, {}))
+            out.append((frame.timestamp if frame.depth is not None else frame.capture_time, frame.hands,
+                        performer_body(frame)))
     return iter(out), mirrored
 
 

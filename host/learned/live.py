@@ -12,7 +12,7 @@ from typing import Callable, TextIO
 
 from host.contracts import Backend, frames_of
 from host.errors import UserError
-from host.learned.features import postures
+from host.learned.features import performer_body, postures
 from host.learned.learner import Take, repetitions
 
 COUNT_IN_S = 2.0  # standing at rest before each repetition (also the rest the learner needs)
@@ -28,7 +28,7 @@ def _frames(backend: Backend, seconds: float, tick: Callable[[float], None], mir
             mirrored[0] = frame.depth.mirrored
         t = frame.timestamp if frame.depth is not None else frame.capture_time
         start = t if start is None else start
-        out.append((t, frame.hands, {}))
+        out.append((t, frame.hands, performer_body(frame)))
         tick(min(1.0, (t - start) / seconds))
         if t - start >= seconds:
             return out
