@@ -21,8 +21,8 @@ import numpy as np
 from host.errors import UserError
 from host.learned.examples import read_take
 from host.learned.gesture_file import LearnedGesture, load
-from host.learned.learner import (STYLE_MIN, counter_example, examples_left_out, far_off, hands_used, learn,
-                                  taught_before, typical_length, unlike_before)
+from host.learned.learner import (STYLE_MIN, counter_example, examples_left_out, far_off, hands_used, held_by_rest,
+                                  learn, taught_before, typical_length, unlike_before)
 from host.learned.loops import LoopCheck
 from host.learned.matcher import taught_repetitions
 
@@ -49,6 +49,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--seconds", type=float, default=3.0, help="live: seconds for each repetition (default: 3)")
 
 
+def _held(g: LearnedGesture) -> list[str]:
+    """A line when the threshold was held below what the repetitions give (learner.threshold)."""
+    loose = held_by_rest(g)
+    if loose is None:
+        return []
+    return [f"  threshold held at {g.threshold:.3f}: the repetitions are far apart (they give {loose:.3f}, at which "
+            "standing still at rest would pass for the gesture); re-record them alike, several in one take, and "
+            "check that the tracker keeps the hands (issv track)"]
+
+
 def describe(g: LearnedGesture) -> str:
     durations = [r.duration for r in g.repetitions]
     scores = [r.score for r in g.repetitions if r.score is not None]
@@ -56,6 +66,7 @@ def describe(g: LearnedGesture) -> str:
              f"({min(durations):.2f}-{max(durations):.2f} s), hands: {g.hands}",
              f"  threshold {g.threshold:.3f} (a performance must come this close; override per gesture in a "
              f"profile), completes {g.fires_at:.0%} of the way through"]
+    lines += _held(g)
     loops = LoopCheck([g], taught_repetitions([g])).describe(0)
     if loops:
         lines.append(f"  loops: {loops}; a performance must loop too (docs/learned-gestures.md)")
@@ -175,6 +186,6 @@ def main(args: argparse.Namespace) -> int:
     for r in far_off(gesture):
         print(f"  far from the others: {r.source} {r.start:.1f}-{r.end:.1f} s (score {r.score:.3f}); "
               "re-record it if it was a wrong take")
-    print(describe(gesture).splitlines()[0])
+    print("\n".join(describe(gesture).splitlines()[:1] + _held(gesture)))
     print(f"wrote {output}")
     return 0

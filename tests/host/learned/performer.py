@@ -27,7 +27,7 @@ def punch(u: float) -> np.ndarray:
     return out
 
 
-def _right_hand_through(u: float, keys: list[tuple[float, list[float]]]) -> np.ndarray:
+def right_hand_through(u: float, keys: list[tuple[float, list[float]]]) -> np.ndarray:
     """The right hand eased through `keys` ((u, place) in body units), the left hanging at rest."""
     out = REST.copy()
     for (u0, p0), (u1, p1) in zip(keys, keys[1:]):
@@ -40,13 +40,13 @@ def _right_hand_through(u: float, keys: list[tuple[float, list[float]]]) -> np.n
 def throw(u: float) -> np.ndarray:
     """The right hand back over the shoulder, thrown forward, held up in front, then down."""
     held = [0.25, 1.2, -1.2]
-    return _right_hand_through(u, [(0.0, REST[1]), (0.3, [0.45, 1.5, 0.4]), (0.5, held), (0.85, held), (1.0, REST[1])])
+    return right_hand_through(u, [(0.0, REST[1]), (0.3, [0.45, 1.5, 0.4]), (0.5, held), (0.85, held), (1.0, REST[1])])
 
 
 def raise_hand(u: float) -> np.ndarray:
     """The right hand raised straight up in front and held there, where `throw` ends up, then down."""
     held = [0.3, 1.25, -1.0]
-    return _right_hand_through(u, [(0.0, REST[1]), (0.3, held), (0.85, held), (1.0, REST[1])])
+    return right_hand_through(u, [(0.0, REST[1]), (0.3, held), (0.85, held), (1.0, REST[1])])
 
 
 def still(u: float) -> np.ndarray:

@@ -12,10 +12,12 @@ from host.commands.gestures import read_trajectories
 from host.errors import UserError
 from host.learned import gesture_file
 from host.learned.examples import parse_example, read_take
-from host.learned.learner import learn, taught_before
+from host.learned.learner import (STILL_SHARE, consistent_threshold, held_by_rest, learn, standing_still,
+                                  taught_before)
 from host.learned.recognizer import LearnedRecognizer
 from host.learned.segment import find_repetitions
-from tests.host.learned.performer import REST, Performer, circle, punch, raise_hand, still, throw
+from tests.host.learned.performer import (REST, Performer, circle, punch, raise_hand, right_hand_through, still,
+                                         throw)
 
 
 @pytest.fixture(scope="module")
@@ -324,3 +326,37 @@ def test_one_repetition_is_not_enough(tmp_path, capsys):
     Performer().write(take, punch, 1)
     assert issv(["learn", "once", str(take), "--mirrored", "-o", str(tmp_path / "x.json")]) == 1
     assert "found one repetition" in capsys.readouterr().err
+
+
+def swing(u: float) -> np.ndarray:
+    """The right hand swung back beside the hip and forward, low: never far from rest (a bowl)."""
+    return right_hand_through(u, [(0.0, REST[1]), (0.4, [0.45, -0.55, 0.35]), (0.8, [0.3, -0.35, -0.6]),
+                                   (1.0, REST[1])])
+
+
+def test_repetitions_far_apart_never_make_standing_still_pass_for_the_gesture(tmp_path, capsys):
+    """A tracker that loses the hands (jumping 0.5 m in a third of the frames, as the open engine's do
+    beside the legs) makes the repetitions far apart; the threshold they give would take standing still
+    for the gesture, and is held below it, saying why. Tracked cleanly, nothing is held."""
+    def take(path: Path, glitches: bool) -> Path:
+        rng = np.random.default_rng(4)
+        frames, _ = Performer(seed=2).frames(swing, 5)
+        lines = ["t,hand,x,y,z"]
+        for t, points in frames:
+            for name, p in points.items():
+                if glitches and name in ("left", "right") and rng.random() < 0.3:
+                    p = p + rng.uniform(-500, 500, 3)
+                lines.append(f"{t:.4f},{name},{p[0]:.1f},{p[1]:.1f},{p[2]:.1f}")
+        path.write_text("\n".join(lines) + "\n")
+        return path
+
+    clean = learn("bowl", [read_take(str(take(tmp_path / "clean.csv", False)), True)])
+    assert held_by_rest(clean) is None and clean.threshold == consistent_threshold([r.score for r in clean.repetitions])
+    lost = tmp_path / "lost.csv"
+    assert issv(["learn", "bowl", str(take(lost, True)), "--mirrored", "-o", str(tmp_path / "bowl.json")]) == 0
+    said = capsys.readouterr().out
+    gesture = gesture_file.load(tmp_path / "bowl.json")
+    loose = held_by_rest(gesture)
+    assert loose is not None and gesture.threshold < loose
+    assert standing_still(gesture) >= STILL_SHARE * gesture.threshold - 1e-3  # standing still is not close
+    assert f"threshold held at {gesture.threshold:.3f}" in said
