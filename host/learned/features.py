@@ -9,11 +9,11 @@ that templates and live streams line up whatever the camera's frame rate.
 The body points are the performer's own wherever the backend reports users (the open engine,
 osc-in, a CSV's torso and head rows), in teaching as in the show (`performer_body`): against the
 UTD-MHAD skeleton, the open engine's torso and head put its hands' postures 0.145 body units off
-(median) where the estimate below puts them 0.229 off (bench/learned_depth.py). Without body points (a backend that reports
-hands only) the torso is estimated from the hands: the place they last hung at rest, a body size
-below it. Rest is the lowest the hands have been over the last _REST_WINDOW_S, not the last few
-seconds: a performer gesturing on and on with the hands up would otherwise pull the torso up with
-them (docs/learned-gestures.md gives the cost).
+(median) where the estimate below puts them 0.229 off (bench/learned_depth.py). Without body
+points (a backend that reports hands only) the torso is estimated from the hands: the place they
+last hung at rest, a body size below it. Rest is the lowest the hands have been over the last
+_REST_WINDOW_S, not the last few seconds: a performer gesturing on and on with the hands up would
+otherwise pull the torso up with them (docs/learned-gestures.md gives the cost).
 """
 from __future__ import annotations
 

@@ -112,6 +112,12 @@ def hands_used(reps: list[TaughtRepetition]) -> tuple[str, np.ndarray]:
     return "right", np.array([IDLE_WEIGHT] * 3 + [1.0] * 3)
 
 
+def _templates_of(gesture: LearnedGesture, reps: list[TaughtRepetition]) -> Matcher:
+    """The templates of `reps`, as `gesture` would match them, without a classifier's veto (scores only)."""
+    return Matcher([LearnedGesture(gesture.name, gesture.hands, 1.0, gesture.fires_at, gesture.weights, reps)],
+                   classify=False)
+
+
 def consistency(gesture: LearnedGesture) -> np.ndarray:
     """Each repetition's best score against the other repetitions of its take (see the module doc)."""
     reps = gesture.repetitions
@@ -120,8 +126,7 @@ def consistency(gesture: LearnedGesture) -> np.ndarray:
         others = [r for r in reps if r.source == rep.source and r is not rep] or [r for r in reps if r is not rep]
         if not others:
             continue
-        alone = LearnedGesture(gesture.name, gesture.hands, 1.0, gesture.fires_at, gesture.weights, others)
-        matcher = Matcher([alone], classify=False)
+        matcher = _templates_of(gesture, others)
         out[i] = min(float(matcher.step(posture)[0]) for posture in rep.postures)
     return out
 
@@ -130,8 +135,7 @@ def standing_still(gesture: LearnedGesture) -> float:
     """The templates' best score for a performer standing still at rest (the median posture the
     repetitions start from: the segmenter starts each one at rest)."""
     rest = np.median([r.postures[0] for r in gesture.repetitions], axis=0)
-    alone = LearnedGesture(gesture.name, gesture.hands, 1.0, gesture.fires_at, gesture.weights, gesture.repetitions)
-    matcher = Matcher([alone], classify=False)
+    matcher = _templates_of(gesture, gesture.repetitions)
     ticks = STILL_TICKS * max(len(r.postures) for r in gesture.repetitions) + 1
     return min(float(matcher.step(rest)[0]) for _ in range(ticks))
 
