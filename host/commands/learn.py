@@ -21,7 +21,7 @@ import numpy as np
 from host.errors import UserError
 from host.learned.examples import read_take
 from host.learned.gesture_file import LearnedGesture, load
-from host.learned.learner import (STYLE_MIN, counter_example, examples_left_out, far_off, hands_used, held_by_rest,
+from host.learned.learner import (STYLE_MIN, counter_example, examples_left_out, far_off, hands_used, held_by_ceiling,
                                   learn, taught_before, typical_length, unlike_before)
 from host.learned.loops import LoopCheck
 from host.learned.matcher import taught_repetitions
@@ -51,12 +51,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def _held(g: LearnedGesture) -> list[str]:
     """A line when the threshold was held below what the repetitions give (learner.threshold)."""
-    loose = held_by_rest(g)
+    loose = held_by_ceiling(g)
     if loose is None:
         return []
     return [f"  threshold held at {g.threshold:.3f}: the repetitions are far apart (they give {loose:.3f}, at which "
-            "standing still at rest would pass for the gesture); re-record them alike, several in one take, and "
-            "check that the tracker keeps the hands (issv track)"]
+            "almost any motion would pass for the gesture); re-record them alike, several in one take, and check "
+            "that the tracker keeps the hands (issv track)"]
 
 
 def describe(g: LearnedGesture) -> str:
