@@ -355,7 +355,8 @@ def test_repetitions_far_apart_are_held_to_the_ceiling_and_said_to_be(tmp_path, 
         return out
 
     clean = learn("bowl", [read_take(path, True) for path in takes(False)])
-    assert held_by_ceiling(clean) is None and clean.threshold == consistent_threshold([r.score for r in clean.repetitions])
+    assert held_by_ceiling(clean) is None
+    assert clean.threshold == consistent_threshold([r.score for r in clean.repetitions])
     assert issv(["learn", "bowl", *takes(True), "--mirrored", "-o", str(tmp_path / "bowl.json")]) == 0
     gesture = gesture_file.load(tmp_path / "bowl.json")
     loose = held_by_ceiling(gesture)
