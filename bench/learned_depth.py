@@ -92,16 +92,16 @@ def reference(clips: list[Path]) -> dict:
 
 
 def taught(clips: list[Path], folder: Path) -> dict:
-    files, thresholds = [], {}
+    files, learned = [], {}
     for name in ACTIONS:
         takes = [read_take(str(c), True) for c in clips if _clip_parts(c) in {(s, name) for s in TEACHERS}]
         gesture = learn(name, takes)
         gesture.save(folder / f"{name}.gesture.json")
         files.append(folder / f"{name}.gesture.json")
-        thresholds[name] = {"threshold": gesture.threshold, "hands": gesture.hands}
+        learned[name] = {"threshold": gesture.threshold, "hands": gesture.hands}
     source_cls, backend_cls = plugin_class("sources", "clip"), plugin_class("backends", "openiss")
     hits: dict[str, dict[str, list[int]]] = collections.defaultdict(lambda: collections.defaultdict(lambda: [0, 0]))
-    fired, others = collections.Counter(), [0, 0]
+    fired, with_wrong = collections.Counter(), [0, 0]  # clips with another learned gesture, clips
     for clip in tracked([c for c in clips if _clip_parts(c)[0] in CHECKED], "learned gestures on s3-s4"):
         subject, label = _clip_parts(clip)
         out = io.StringIO()
@@ -112,13 +112,14 @@ def taught(clips: list[Path], folder: Path) -> dict:
             hits[label][subject][0] += label in names
             hits[label][subject][1] += 1
         wrong = names - {label}
-        others[0] += bool(wrong)
-        others[1] += 1
+        with_wrong[0] += bool(wrong)
+        with_wrong[1] += 1
         fired.update(wrong)
     recall = {a: sum(h for h, _ in s.values()) / sum(n for _, n in s.values()) for a, s in hits.items()}
-    return {"learned": thresholds, "recall": recall, "mean_recall": float(np.mean(list(recall.values()))),
+    return {"learned": learned, "recall": recall, "mean_recall": float(np.mean(list(recall.values()))),
             "by_person": {a: {s: h / n for s, (h, n) in sorted(per.items())} for a, per in hits.items()},
-            "false_fire_rate": others[0] / others[1], "clips": others[1], "false_fires_by_gesture": dict(fired)}
+            "false_fire_rate": with_wrong[0] / with_wrong[1], "clips": with_wrong[1],
+            "false_fires_by_gesture": dict(fired)}
 
 
 def main() -> None:
