@@ -76,6 +76,7 @@ class PostureStream:
         self._hands: dict[Side, tuple[float, np.ndarray]] = {}
         self._sizes: deque[float] = deque(maxlen=_SIZE_WINDOW)
         self._low: deque[tuple[float, np.ndarray]] = deque()  # without a torso: recent hand places
+        self._rest: np.ndarray | None = None  # ... and where they rest, read from them when they change
         self.broken = False  # the last update had no posture (a hand gone): matching starts again
 
     def update(self, t: float, hands: Sequence[Hand], body: Mapping[str, Sequence[float]]) -> list[Posture]:
@@ -147,18 +148,24 @@ class PostureStream:
         else:
             side, place = next(iter(seen.items()))
             middle = place - self.flip * np.array([REST_PLACE[side][0] * size, 0.0, 0.0])
-        if not self._low or t - self._low[-1][0] >= _REST_EVERY_S:
+        changed = not self._low or t - self._low[-1][0] >= _REST_EVERY_S
+        if changed:
             self._low.append((t, middle))
         while t - self._low[0][0] > _REST_WINDOW_S:
             self._low.popleft()
+            changed = True
+        if changed:  # rest is read again only when the places kept change (every _REST_EVERY_S)
+            self._rest = self._rest_place()
+        return self._rest - np.array([0.0, REST_PLACE[Side.LEFT][1], REST_PLACE[Side.LEFT][2]]) * size
+
+    def _rest_place(self) -> np.ndarray:
+        """Where the hands last hung at rest: the lowest _REST_SHARE percent of the places kept."""
         times = np.array([when for when, _ in self._low])
         places = np.array([place for _, place in self._low])
         if len(places) < 5:
-            rest = places[np.argmin(places[:, 1])]
-        else:
-            low = places[:, 1] <= np.percentile(places[:, 1], _REST_SHARE)
-            rest = places[low & (times >= times[low].max() - _REST_LAST_S)].mean(axis=0)
-        return rest - np.array([0.0, REST_PLACE[Side.LEFT][1], REST_PLACE[Side.LEFT][2]]) * size
+            return places[np.argmin(places[:, 1])]
+        low = places[:, 1] <= np.percentile(places[:, 1], _REST_SHARE)
+        return places[low & (times >= times[low].max() - _REST_LAST_S)].mean(axis=0)
 
 
 def resampled(postures: np.ndarray, rate_hz: float) -> np.ndarray:
