@@ -27,6 +27,8 @@ from pathlib import Path
 import numpy as np
 
 from bench.common import data_set, parse_args, report, tracked
+from bench.gestures import label_of
+from bench.people import person_of
 from host.app import plugin_class
 from host.commands.track import track
 from host.learned.examples import read_take
@@ -40,9 +42,8 @@ SKELETON_LEAD = 2  # frames: the skeleton of frame i - 2 goes with the depth of 
 
 
 def _clip_parts(clip: Path) -> tuple[str, str]:
-    """a12_s1_t1_bowling.npz -> ("s1", "bowling")."""
-    _, subject, _, *label = clip.stem.split("_")
-    return subject, "_".join(label)
+    """a12_s1_t1_bowling.npz -> ("s1", "bowling"), as bench.people and bench.gestures read the names."""
+    return person_of(clip.name), label_of(str(clip))
 
 
 def _skeleton_hands(hands: np.ndarray) -> list[Hand]:
