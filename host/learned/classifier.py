@@ -75,19 +75,21 @@ def _descriptors(padded: np.ndarray, ends: np.ndarray) -> np.ndarray:
 
 
 class Describer:
-    """The live side of `describe_all`: fed one posture at a time."""
+    """The live side of `describe_all`: fed one posture at a time. With `pace` n, it describes every
+    n-th of the last postures: a motion performed n times slower, as if at the taught pace."""
 
-    def __init__(self) -> None:
-        self._history: deque[np.ndarray] = deque(maxlen=_HISTORY)
+    def __init__(self, pace: int = 1) -> None:
+        self.pace = pace
+        self._history: deque[np.ndarray] = deque(maxlen=pace * _HISTORY)
 
     def reset(self) -> None:
         self._history.clear()
 
     def push(self, posture: np.ndarray) -> np.ndarray:
         if not self._history:
-            self._history.extend([posture] * (_HISTORY - 1))
+            self._history.extend([posture] * (self._history.maxlen - 1))
         self._history.append(posture)
-        return describe(np.array(self._history))
+        return describe(np.array(self._history)[::-self.pace][::-1])
 
 
 class Classifier:

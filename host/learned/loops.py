@@ -21,10 +21,10 @@ does, and p02's goggles, straight up, must still be goggles.
 A performance completes a looping gesture only if, in one of those (hand, plane)s, the motion its
 best template has matched loops at least `loop` (AS_MUCH unless a profile says otherwise; 0 turns
 the check off). One hand is enough: a performer rolling one arm at a time. The motion read is the
-same share of the match as the window is of the taught repetition: the last WINDOW postures for a
-performer as fast as the teachers, fewer for a faster one, so a quick performer's rest and next
-repetition are not read as part of the loop. Gestures whose repetitions do not loop (a punch, a
-beat, goggles) are not checked.
+same share of the match as the window is of the taught repetition (matcher.py, `_matched`): the last
+WINDOW postures for a performer as fast as the teachers, fewer for a faster one, so a quick
+performer's rest and next repetition are not read as part of the loop, more for a slower one.
+Gestures whose repetitions do not loop (a punch, a beat, goggles) are not checked.
 """
 from __future__ import annotations
 
@@ -84,7 +84,6 @@ class LoopCheck:
     def __init__(self, gestures: Sequence[LearnedGesture], taught: list[list[np.ndarray]]) -> None:
         """taught[g]: gesture g's repetitions at RATE_HZ (matcher.taught_repetitions)."""
         self.taught = np.zeros((len(gestures), 6))
-        self.share = np.ones(len(gestures))  # how much of a matched motion's end is read
         for g, (gesture, reps) in enumerate(zip(gestures, taught)):
             prefixes = [r[:gesture.completes_at(len(r))] for r in reps]
             median = np.median([loopiness(p[-WINDOW:]) for p in prefixes], axis=0)
@@ -94,7 +93,6 @@ class LoopCheck:
             loops = [c for c in used if median[c] >= LOOPS]
             if any(gone_round[c] >= LOOPS for c in loops):  # a loop the hands go round, not an arc
                 self.taught[g, loops] = median[loops]
-            self.share[g] = float(np.median([min(1.0, WINDOW / len(p)) for p in prefixes]))
         self.need = np.array([AS_MUCH if g.loop is None else g.loop for g in gestures])
         self.checked = (self.taught > 0).any(axis=1) & (self.need > 0)
 
@@ -106,7 +104,6 @@ class LoopCheck:
         out = ~self.checked
         for g in np.flatnonzero(self.checked if among is None else self.checked & among):
             motion = matched(g)
-            motion = motion[-max(MIN_SEEN, int(round(self.share[g] * len(motion)))):]
             if len(motion) >= MIN_SEEN:
                 out[g] = bool(np.any((self.taught[g] > 0) & (loopiness(motion) >= self.need[g])))
         return out

@@ -1,10 +1,11 @@
 """Online matching of learned gestures: dynamic time warping of the live postures against every
 taught repetition at once.
 
-Each repetition is a template; the live stream may match it starting at any instant (subsequence
-DTW). Every posture the stream advances, a template advances by 0, 1 or 2 of its own postures, so
-a performance may be up to twice as fast as the teaching, and at most twice as slow (the band:
-a path may not hold more than its own length in stays). A path's score is the mean weighted
+Each repetition is a template, and so is the repetition performed SLOWER times slower; the live
+stream may match them starting at any instant (subsequence DTW). Every posture the stream advances,
+a template advances by 0, 1 or 2 of its own postures, so a performance may be up to twice as fast as
+the teaching, and up to four times as slow (the band: a path may not hold more than its own length in
+stays, on the slow template too). A path's score is the mean weighted
 distance between the live postures and the template's along it. A gesture completes when, for
 HOLD postures running, its best template has been matched up to its `fires_at` point with a
 score below the gesture's threshold AND the classifier (classifier.py) agrees, the more so the
@@ -26,6 +27,20 @@ chosen there, as the highest recall with false fires no higher than before (peop
 teachers gave about 1.2 to 1.3 times the teachers' false fires before the loop check);
 bench/learned.py gives the figures, on the teachers and on p04-p10. All templates of all gestures
 sit in one array, so a frame costs a handful of numpy operations whatever their number.
+
+A performer may wind a loop far slower than its teachers: MSRC-12's p06 winds one circle of
+wind_it_up in 2.5 s, the teachers one in 0.7 s. The slow templates match such a performance, and a
+looping gesture (loops.py) whose best template is a slow one is asked of the classifier at that
+pace, every SLOWER-th posture (`_agree`): its window, 1.6 s at the taught pace, would hold only part
+of the loop. A one-off gesture's shape comes with its pace (a shoot's recoil, a throw's release):
+read at half pace too, p04-p10's shoot windows fired beat_both three times as often (30 against
+10) and, leaving one teacher out, false fires rose 0.083 -> 0.107 (at AGREE 0.88). With the slow
+templates AGREE was chosen again as before (the highest recall leaving one teacher out with false
+fires no higher than before): 0.88 -> 0.935. Leaving one teacher out, mean recall 0.644 -> 0.691 with
+false fires 0.073 -> 0.070; on p04-p10 0.879 -> 0.890 (wind_it_up 0.61 -> 0.70: p04 0.50 -> 0.86,
+p06 0 -> 0.18, p09 0 -> 0.25; beat_both 0.85 -> 0.87) with false fires 0.056 -> 0.082, most of
+them wind_it_up in p08's beat_both and p09's shoot. Matching costs about three times as much (twice
+the templates, twice as long): bench/learned.py prints it.
 
 A gesture is IN_PROGRESS (said once per attempt) when a path has come UNDER_WAY of the way to its
 `fires_at` point with a score below the threshold and the classifier does not rule it out (above
@@ -55,17 +70,19 @@ from host.learned.cache import trained
 from host.learned.classifier import Classifier, Describer
 from host.learned.features import RATE_HZ, resampled
 from host.learned.gesture_file import LearnedGesture
-from host.learned.loops import LoopCheck
+from host.learned.loops import MIN_SEEN, WINDOW as LOOP_WINDOW, LoopCheck
 
 MOTION_WEIGHT = 0.5  # how much the direction of motion counts next to where the hands are
 MOTION_SOFT = 1.0  # body units/s: motion slower than this counts less (direction of a still hand is noise)
 SKIP_WEIGHT = 2.0  # a skip covers two template postures: it counts twice
 FRESH = 0.2  # a completion needs a path begun after the last one, or at most this share of the typical length before
-AGREE = 0.88  # the classifier's probability a gesture needs to complete with a template below the threshold
+AGREE = 0.935  # the classifier's probability a gesture needs to complete with a template below the threshold
+# (chosen leave-one-teacher-out on p01-p03 with the other tiers and learner.THRESHOLD_FACTOR; see the module doc)
 SURE, SURE_RATIO = 0.999, 1.5  # ... or this probability with a template up to SURE_RATIO times the threshold away
 CLOSE, CLOSE_RATIO = 0.02, 0.62  # ... or only this one with a template within CLOSE_RATIO of the threshold
 HOLD = 3  # postures running that both must agree (a one-posture blip is no gesture)
 UNDER_WAY = 0.5  # share of the way to `fires_at` a path must have come, below threshold, to be IN_PROGRESS
+SLOWER = 2  # every repetition is also a template performed this many times slower (see the module doc)
 
 
 @dataclass(frozen=True)
@@ -112,14 +129,17 @@ class Matcher:
         self.thresholds = np.array(thresholds if thresholds is not None else [g.threshold for g in gestures], float)
         # a threshold loosened in a profile does not loosen "close": look-alikes still need the classifier
         self.close = CLOSE_RATIO * np.minimum(self.thresholds, [g.threshold for g in gestures])
-        prefixes, owner, typical = [], [], []
+        prefixes, owner, slow, typical = [], [], [], []
         taught = taught_repetitions(gestures)
         for gi, (g, reps) in enumerate(zip(gestures, taught)):
             typical.append(float(np.median([len(r) for r in reps])))
             for r in reps:
-                prefixes.append(motion(r)[:g.completes_at(len(r))])
-                owner.append(gi)
+                for postures in (r, resampled(r, RATE_HZ / SLOWER)):
+                    prefixes.append(motion(postures)[:g.completes_at(len(postures))])
+                    owner.append(gi)
+                    slow.append(postures is not r)
         self.owner = np.array(owner, int)
+        self.slow = np.array(slow, bool)  # a template of a repetition performed SLOWER times slower
         self._templates_of = [np.flatnonzero(self.owner == gi) for gi in range(len(gestures))]
         m, k = len(prefixes), max((len(p) for p in prefixes), default=2)
         self.templates = np.zeros((m, k, 12), np.float32)
@@ -146,6 +166,7 @@ class Matcher:
         self._history: deque[np.ndarray] = deque(maxlen=int(self.band[-1]) + 1)  # postures a path may span
         self._score = np.full(m, np.inf)  # each template's score at its `fires_at` point, this posture
         self.describer = Describer()
+        self.slow_describer = Describer(pace=SLOWER)
         self.running = np.zeros(len(gestures))  # postures templates and classifier have agreed
 
     def reset(self) -> None:
@@ -155,6 +176,7 @@ class Matcher:
         self._recent = []
         self._history.clear()
         self.describer.reset()
+        self.slow_describer.reset()
         self.running[:] = 0
 
     def update(self, posture: np.ndarray) -> list[Match]:
@@ -165,9 +187,27 @@ class Matcher:
         per = self.step(posture)
         possible = per < SURE_RATIO * self.thresholds  # no gesture further away completes (`_decide`)
         per = np.where(self.loops.passes(self._matched, possible), per, np.inf)
-        agree = np.ones(len(self.gestures)) if self.classifier is None else \
-            self.classifier.probabilities(self.describer.push(posture))[:-1]
+        agree = self._agree(posture)
         return self._announce(agree) + self._decide(per, agree)
+
+    def _agree(self, posture: np.ndarray) -> np.ndarray:
+        """The classifier's probability of each gesture: at the taught pace, and for a looping gesture
+        whose best template is a slow one, at that pace (every SLOWER-th posture)."""
+        if self.classifier is None:
+            return np.ones(len(self.gestures))
+        agree = self.classifier.probabilities(self.describer.push(posture))[:-1]
+        if not self.loops.checked.any():
+            return agree
+        slow_descriptor = self.slow_describer.push(posture)
+        slow = [gi for gi in np.flatnonzero(self.loops.checked) if self.slow[self._best(gi)]]
+        if slow:
+            agree[slow] = self.classifier.probabilities(slow_descriptor)[:-1][slow]
+        return agree
+
+    def _best(self, gi: int) -> int:
+        """The template of gesture `gi` that matches best at its `fires_at` point, this posture."""
+        rows = self._templates_of[gi]
+        return int(rows[np.argmin(self._score[rows])])
 
     def step(self, posture: np.ndarray) -> np.ndarray:
         """Advance every path by one posture; each gesture's best score at its `fires_at` point, of
@@ -207,13 +247,16 @@ class Matcher:
         return per
 
     def _matched(self, gi: int) -> np.ndarray:
-        """The postures gesture `gi`'s best path has matched so far (the motion the loop check reads)."""
-        rows = self._templates_of[gi]
-        best = rows[np.argmin(self._score[rows])]
+        """The motion the loop check reads (loops.py): of the postures gesture `gi`'s best path has
+        matched, the same share as the last loops.WINDOW postures are of the repetition as taught
+        (of a slow template's repetition, not of the template: the loop, however slowly wound)."""
+        best = self._best(gi)
         seen = int(self.tick - self.start[best, self.end[best]])
         if not 0 < seen <= len(self._history):
             return np.zeros((0, 6))
-        return np.array(list(islice(self._history, len(self._history) - seen, None)))
+        taught = (self.end[best] + 1) / (SLOWER if self.slow[best] else 1)  # postures of the repetition as taught
+        read = min(seen, max(MIN_SEEN, round(min(1.0, LOOP_WINDOW / taught) * seen)))
+        return np.array(list(islice(self._history, len(self._history) - read, None)))
 
     def _fresh(self, start: np.ndarray) -> np.ndarray:
         """Paths (started at ticks `start`, one row per template) that may complete their gesture: begun

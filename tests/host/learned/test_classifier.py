@@ -23,6 +23,11 @@ def test_live_descriptors_are_the_ones_it_was_trained_on():
     assert np.allclose(live, describe_all(postures))
     describer.reset()  # a broken stream starts again from the next posture, as a repetition does
     assert np.allclose([describer.push(p) for p in postures[50:]], describe_all(postures[50:]))
+    slow = Describer(pace=2)  # a motion twice as slow, read at its own pace: every other posture
+    live = np.array([slow.push(p) for p in postures])
+    full = slice(61, None, 2)  # once its history holds twice as many postures as the window reads
+    assert np.allclose(live[full], describe_all(postures[1::2])[30:])
+    assert not np.allclose(live[full], describe_all(postures)[full])
 
 
 def test_it_tells_the_loaded_gestures_and_rest_apart_for_another_performer(tmp_path):
