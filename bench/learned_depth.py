@@ -46,6 +46,11 @@ def _clip_parts(clip: Path) -> tuple[str, str]:
     return person_of(clip.name), label_of(str(clip))
 
 
+def _clip_and_engine() -> tuple[type, type]:
+    """The clip source and the open engine, as a profile would name them."""
+    return plugin_class("sources", "clip"), plugin_class("backends", "openiss")
+
+
 def _skeleton_hands(hands: np.ndarray) -> list[Hand]:
     if not np.all(np.isfinite(hands)):
         return []
@@ -56,7 +61,7 @@ def _errors(clip: Path) -> dict[str, list[float]]:
     """One clip: per posture, the distance (body units, mean of the hands) of the engine's postures
     measured against its body and against the estimate, from the skeleton's."""
     data = np.load(clip)
-    source_cls, backend_cls = plugin_class("sources", "clip"), plugin_class("backends", "openiss")
+    source_cls, backend_cls = _clip_and_engine()
     streams = {"body": PostureStream(True), "estimate": PostureStream(True)}
     truth = PostureStream(True)
     out: dict[str, list[float]] = {"body": [], "estimate": []}
@@ -95,12 +100,12 @@ def reference(clips: list[Path]) -> dict:
 def taught(clips: list[Path], folder: Path) -> dict:
     files, learned = [], {}
     for name in ACTIONS:
-        takes = [read_take(str(c), True) for c in clips if _clip_parts(c) in {(s, name) for s in TEACHERS}]
+        takes = [read_take(str(c), True) for c in clips if _clip_parts(c) in {(t, name) for t in TEACHERS}]
         gesture = learn(name, takes)
         gesture.save(folder / f"{name}.gesture.json")
         files.append(folder / f"{name}.gesture.json")
         learned[name] = {"threshold": gesture.threshold, "hands": gesture.hands}
-    source_cls, backend_cls = plugin_class("sources", "clip"), plugin_class("backends", "openiss")
+    source_cls, backend_cls = _clip_and_engine()
     hits: dict[str, dict[str, list[int]]] = collections.defaultdict(lambda: collections.defaultdict(lambda: [0, 0]))
     fired, with_wrong = collections.Counter(), [0, 0]  # clips with another learned gesture, clips
     for clip in tracked([c for c in clips if _clip_parts(c)[0] in CHECKED], "learned gestures on s3-s4"):

@@ -85,11 +85,18 @@ class Describer:
     def reset(self) -> None:
         self._history.clear()
 
-    def push(self, posture: np.ndarray) -> np.ndarray:
+    def add(self, posture: np.ndarray) -> None:
         if not self._history:
             self._history.extend([posture] * (self._history.maxlen - 1))
         self._history.append(posture)
+
+    def descriptor(self) -> np.ndarray:
+        """The descriptor of the last posture added (`describe`, at this describer's pace)."""
         return describe(np.array(self._history)[::-self.pace][::-1])
+
+    def push(self, posture: np.ndarray) -> np.ndarray:
+        self.add(posture)
+        return self.descriptor()
 
 
 class Classifier:

@@ -129,17 +129,21 @@ class Matcher:
         self.thresholds = np.array(thresholds if thresholds is not None else [g.threshold for g in gestures], float)
         # a threshold loosened in a profile does not loosen "close": look-alikes still need the classifier
         self.close = CLOSE_RATIO * np.minimum(self.thresholds, [g.threshold for g in gestures])
-        prefixes, owner, slow, typical = [], [], [], []
+        prefixes, owner, pace, typical = [], [], [], []
         taught = taught_repetitions(gestures)
         for gi, (g, reps) in enumerate(zip(gestures, taught)):
             typical.append(float(np.median([len(r) for r in reps])))
             for r in reps:
-                for postures in (r, resampled(r, RATE_HZ / SLOWER)):
+                for slower in (1, SLOWER):
+                    postures = resampled(r, RATE_HZ / slower)
                     prefixes.append(motion(postures)[:g.completes_at(len(postures))])
                     owner.append(gi)
-                    slow.append(postures is not r)
+                    pace.append(slower)
         self.owner = np.array(owner, int)
-        self.slow = np.array(slow, bool)  # a template of a repetition performed SLOWER times slower
+        self.slow = np.array(pace) > 1  # a template of a repetition performed SLOWER times slower
+        # the share of a match the loop check reads: as much as its last loops.WINDOW postures are of
+        # the repetition as taught (of a slow template's repetition, not of the template: the loop)
+        self.loop_share = np.minimum(1.0, LOOP_WINDOW * np.array(pace) / np.array([len(p) for p in prefixes]))
         self._templates_of = [np.flatnonzero(self.owner == gi) for gi in range(len(gestures))]
         m, k = len(prefixes), max((len(p) for p in prefixes), default=2)
         self.templates = np.zeros((m, k, 12), np.float32)
@@ -198,10 +202,10 @@ class Matcher:
         agree = self.classifier.probabilities(self.describer.push(posture))[:-1]
         if not self.loops.checked.any():
             return agree
-        slow_descriptor = self.slow_describer.push(posture)
+        self.slow_describer.add(posture)
         slow = [gi for gi in np.flatnonzero(self.loops.checked) if self.slow[self._best(gi)]]
         if slow:
-            agree[slow] = self.classifier.probabilities(slow_descriptor)[:-1][slow]
+            agree[slow] = self.classifier.probabilities(self.slow_describer.descriptor())[:-1][slow]
         return agree
 
     def _best(self, gi: int) -> int:
@@ -247,15 +251,13 @@ class Matcher:
         return per
 
     def _matched(self, gi: int) -> np.ndarray:
-        """The motion the loop check reads (loops.py): of the postures gesture `gi`'s best path has
-        matched, the same share as the last loops.WINDOW postures are of the repetition as taught
-        (of a slow template's repetition, not of the template: the loop, however slowly wound)."""
+        """The motion the loop check reads (loops.py): the end of what gesture `gi`'s best path has
+        matched, its template's `loop_share` of it."""
         best = self._best(gi)
         seen = int(self.tick - self.start[best, self.end[best]])
         if not 0 < seen <= len(self._history):
             return np.zeros((0, 6))
-        taught = (self.end[best] + 1) / (SLOWER if self.slow[best] else 1)  # postures of the repetition as taught
-        read = min(seen, max(MIN_SEEN, round(min(1.0, LOOP_WINDOW / taught) * seen)))
+        read = min(seen, max(MIN_SEEN, round(self.loop_share[best] * seen)))
         return np.array(list(islice(self._history, len(self._history) - read, None)))
 
     def _fresh(self, start: np.ndarray) -> np.ndarray:
