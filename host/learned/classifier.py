@@ -69,7 +69,7 @@ def _descriptors(padded: np.ndarray, ends: np.ndarray) -> np.ndarray:
     for lag in range(0, WINDOW, LAG_STEP):
         now, back = q[ends - lag], q[ends - lag - 2]
         parts += [now, now[:, :3] - now[:, 3:], 3.0 * (now - back)]
-    window = np.stack([q[ends - k] for k in range(WINDOW)], axis=1)
+    window = q[ends[:, None] - np.arange(WINDOW)]  # (n, WINDOW, 6), the latest first
     parts += [window.std(axis=1), np.abs(np.diff(window, axis=1)).mean(axis=1) * 5.0]
     return np.concatenate(parts, axis=1)
 

@@ -25,8 +25,9 @@ with 0.087 against 0.86 with 0.093). A gesture its teachers perform as a loop mu
 (learner.py), AGREE, CLOSE, SURE (and their ratios), HOLD, FRESH and the classifier's shifts were
 chosen there, as the highest recall with false fires no higher than before (people other than the
 teachers gave about 1.2 to 1.3 times the teachers' false fires before the loop check);
-bench/learned.py gives the figures, on the teachers and on p04-p10. All templates of all gestures
-sit in one array, so a frame costs a handful of numpy operations whatever their number.
+bench/learned.py gives the figures, on the teachers and on p04-p10. The postures of all templates of all
+gestures sit one after another in one array (not padded to the longest template: that was two
+thirds padding), so a frame costs a handful of numpy operations whatever their number.
 
 A performer may wind a loop far slower than its teachers: MSRC-12's p06 winds one circle of
 wind_it_up in 2.5 s, the teachers one in 0.7 s. The slow templates match such a performance, and a
@@ -39,8 +40,8 @@ templates AGREE was chosen again as before (the highest recall leaving one teach
 fires no higher than before): 0.88 -> 0.935. Leaving one teacher out, mean recall 0.644 -> 0.691 with
 false fires 0.073 -> 0.070; on p04-p10 0.879 -> 0.890 (wind_it_up 0.61 -> 0.70: p04 0.50 -> 0.86,
 p06 0 -> 0.18, p09 0 -> 0.25; beat_both 0.85 -> 0.87) with false fires 0.056 -> 0.082, most of
-them wind_it_up in p08's beat_both and p09's shoot. Matching costs about three times as much (twice
-the templates, twice as long): bench/learned.py prints it.
+them wind_it_up in p08's beat_both and p09's shoot. The slow templates make matching about three
+times as costly (twice the templates, twice as long): bench/learned.py prints it.
 
 A gesture is IN_PROGRESS (said once per attempt) when a path has come UNDER_WAY of the way to its
 `fires_at` point with a score below the threshold and the classifier does not rule it out (above
@@ -145,30 +146,36 @@ class Matcher:
         # the repetition as taught (of a slow template's repetition, not of the template: the loop)
         self.loop_share = np.minimum(1.0, LOOP_WINDOW * np.array(pace) / np.array([len(p) for p in prefixes]))
         self._templates_of = [np.flatnonzero(self.owner == gi) for gi in range(len(gestures))]
-        m, k = len(prefixes), max((len(p) for p in prefixes), default=2)
-        self.templates = np.zeros((m, k, 12), np.float32)
-        self.valid = np.zeros((m, k), bool)  # (m, k): template m has a posture k
-        self.end = np.array([len(p) - 1 for p in prefixes], int)
-        under_way = np.maximum(1, np.round(UNDER_WAY * self.end)).astype(int)
-        self.late = np.arange(k) >= under_way[:, None]  # past the point an attempt counts as under way
-        for i, p in enumerate(prefixes):
-            self.templates[i, :len(p)] = p
-            self.valid[i, :len(p)] = True
-        self.weights = np.array([np.tile(gestures[o].weights, 2) for o in owner], np.float32).reshape(m, 1, 12)
+        # every template's postures one after another, gesture by gesture: padded to the longest, the
+        # templates would be mostly padding (the slow ones are twice as long)
+        lengths = np.array([len(p) for p in prefixes], int)
+        self.end = np.cumsum(lengths) - 1  # each template's last posture
+        place = np.concatenate([np.arange(n) for n in lengths]) if len(lengths) else np.zeros(0, int)
+        self._first = np.flatnonzero(place == 0)  # postures with none before them in their template
+        self._second = np.flatnonzero(place <= 1)  # ... with fewer than two
+        of = np.repeat(np.arange(len(lengths)), lengths)  # each posture's template
+        self.gesture_of = self.owner[of]
+        self._gesture_templates = np.array([rows[0] for rows in self._templates_of], int)  # each one's first
+        self._gesture_postures = (self.end - lengths + 1)[self._gesture_templates]  # ... and its first posture
+        bounds = [*self._gesture_postures, len(place)]
+        self._postures_of = [slice(a, b) for a, b in zip(bounds, bounds[1:])]  # each gesture's postures
+        under_way = np.maximum(1, np.round(UNDER_WAY * (lengths - 1))).astype(int)
+        self.late = place >= under_way[of]  # past the point an attempt counts as under way
+        self.templates = np.concatenate(prefixes, dtype=np.float32) if prefixes else np.zeros((0, 12), np.float32)
+        self.weights = np.array([np.tile(g.weights, 2) for g in gestures], np.float32).reshape(-1, 12)[self.gesture_of]
+        self.band = 2.0 * (place + 1)  # at most twice as slow as the template
+        self.overlap = np.array([FRESH * t for t in typical])  # ticks, per gesture
+        self.cost = np.full(len(place), np.inf, np.float32)  # accumulated distance of the best path ending here
+        self.steps = np.ones(len(place), np.float32)  # its weight (template postures covered, stays included)
+        self.start = np.zeros(len(place), np.int64)  # the tick at which that path began
         self._recent: list[np.ndarray] = []  # the last two postures: where the hands are heading
-        self.band = 2.0 * (np.arange(k) + 1)  # at most twice as slow as the template
-        self.overlap = np.array([FRESH * t for t in typical])[self.owner]  # ticks, per template
-        self.cost = np.full((m, k), np.inf, np.float32)  # accumulated distance of the best path ending here
-        self.steps = np.ones((m, k), np.float32)  # its weight (template postures covered, stays included)
-        self.start = np.zeros((m, k), np.int64)  # the tick at which that path began
         self.tick = 0  # postures seen
-        self.done = np.full(len(gestures), -(10 ** 9))  # the tick each gesture last completed
+        self._cutoff = np.full(len(place), -1e9)  # per posture: a fresh path began after this tick
         self.announced = np.zeros(len(gestures), bool)  # IN_PROGRESS said for the current attempt
-        self._rows = np.arange(m)
         self.classifier = classifier or (trained(taught, counter_examples(gestures)) if classify and gestures else None)
         self.loops = LoopCheck(gestures, taught)
-        self._history: deque[np.ndarray] = deque(maxlen=int(self.band[-1]) + 1)  # postures a path may span
-        self._score = np.full(m, np.inf)  # each template's score at its `fires_at` point, this posture
+        self._history: deque[np.ndarray] = deque(maxlen=2 * int(lengths.max(initial=1)) + 1)  # postures a path may span
+        self._score = np.full(len(lengths), np.inf)  # each template's score at its `fires_at` point, this posture
         self.describer = Describer()
         self.slow_describer = Describer(pace=SLOWER)
         self.running = np.zeros(len(gestures))  # postures templates and classifier have agreed
@@ -219,61 +226,57 @@ class Matcher:
         self._recent = (self._recent + [posture])[-3:]
         posture = motion(np.array(self._recent))[-1]
         diff = self.templates - posture.astype(np.float32)
-        d = np.sqrt(np.einsum("mkc,mkc->mk", diff * self.weights, diff))
-        d[~self.valid] = np.inf
+        d = np.sqrt(np.einsum("nc,nc->n", diff * self.weights, diff))
         cost, steps, start = self.cost, self.steps, self.start
         best = np.empty_like(cost)  # one step along the template (a fresh start at its first posture)
-        best[:, 0] = d[:, 0]
-        best[:, 1:] = cost[:, :-1] + d[:, 1:]
+        best[1:] = cost[:-1] + d[1:]
+        best[self._first] = d[self._first]
         new_steps = np.empty_like(steps)
-        new_steps[:, 0] = 1.0
-        new_steps[:, 1:] = steps[:, :-1] + 1.0
+        new_steps[1:] = steps[:-1] + 1.0
+        new_steps[self._first] = 1.0
         new_start = np.empty_like(start)
-        new_start[:, 0] = self.tick
-        new_start[:, 1:] = start[:, :-1]
+        new_start[1:] = start[:-1]
+        new_start[self._first] = self.tick
         skip = np.full_like(cost, np.inf)  # two steps along it
-        skip[:, 2:] = cost[:, :-2] + SKIP_WEIGHT * d[:, 2:]
+        skip[2:] = cost[:-2] + SKIP_WEIGHT * d[2:]
+        skip[self._second] = np.inf
         better = skip < best
         best = np.where(better, skip, best)
-        new_steps[:, 2:] = np.where(better[:, 2:], steps[:, :-2] + SKIP_WEIGHT, new_steps[:, 2:])
-        new_start[:, 2:] = np.where(better[:, 2:], start[:, :-2], new_start[:, 2:])
-        stay = np.where(steps + 1 <= self.band, cost + d, np.inf)  # the template waits
+        new_steps[2:] = np.where(better[2:], steps[:-2] + SKIP_WEIGHT, new_steps[2:])
+        new_start[2:] = np.where(better[2:], start[:-2], new_start[2:])
+        stayed = steps + 1.0
+        stay = np.where(stayed <= self.band, cost + d, np.inf)  # the template waits
         better = stay < best
         self.cost = np.where(better, stay, best)
-        self.steps = np.where(better, steps + 1.0, new_steps)
+        self.steps = np.where(better, stayed, new_steps)
         self.start = np.where(better, start, new_start)
         self.tick += 1
-        end = self._rows, self.end
-        score = np.where(self._fresh(self.start[end]), self.cost[end] / self.steps[end], np.inf)
-        per = np.full(len(self.gestures), np.inf)
-        np.minimum.at(per, self.owner, score)
-        self._score = score
-        return per
+        end = self.end
+        self._score = np.where(self._fresh(self.start[end], end), self.cost[end] / self.steps[end], np.inf)
+        return np.minimum.reduceat(self._score, self._gesture_templates)
 
     def _matched(self, gi: int) -> np.ndarray:
         """The motion the loop check reads (loops.py): the end of what gesture `gi`'s best path has
         matched, its template's `loop_share` of it."""
         best = self._best(gi)
-        seen = int(self.tick - self.start[best, self.end[best]])
+        seen = int(self.tick - self.start[self.end[best]])
         if not 0 < seen <= len(self._history):
             return np.zeros((0, 6))
         read = min(seen, max(MIN_SEEN, round(self.loop_share[best] * seen)))
         return np.array(list(islice(self._history, len(self._history) - read, None)))
 
-    def _fresh(self, start: np.ndarray) -> np.ndarray:
-        """Paths (started at ticks `start`, one row per template) that may complete their gesture: begun
-        after its last completion, or at most FRESH of its typical length before. So the motion of one
-        performance completes it once however long it lasts, and the next repetition right after it
-        (a cyclic gesture, beaten again and again) completes it again."""
-        cutoff = self.done[self.owner] - self.overlap
-        return start > (cutoff if start.ndim == 1 else cutoff[:, None])
+    def _fresh(self, start: np.ndarray, at: np.ndarray | slice = slice(None)) -> np.ndarray:
+        """Paths (started at ticks `start`, ending at template postures `at`) that may complete their
+        gesture: begun after its last completion, or at most FRESH of its typical length before. So the
+        motion of one performance completes it once however long it lasts, and the next repetition
+        right after it (a cyclic gesture, beaten again and again) completes it again."""
+        return start > self._cutoff[at]
 
     def _announce(self, agree: np.ndarray) -> list[Match]:
         """IN_PROGRESS for each gesture with a path under way below its threshold that the classifier
         (`agree`) does not rule out, once per attempt."""
-        score = np.where(self.late & self.valid & self._fresh(self.start), self.cost / self.steps, np.inf).min(axis=1)
-        best = np.full(len(self.gestures), np.inf)
-        np.minimum.at(best, self.owner, score)
+        score = np.where(self.late & self._fresh(self.start), self.cost / self.steps, np.inf)
+        best = np.minimum.reduceat(score, self._gesture_postures)
         ratio = best / self.thresholds
         self.announced &= ratio < 1.0  # no path below threshold any more: that attempt is over
         new = np.flatnonzero((ratio < 1.0) & ~self.announced & (agree > CLOSE))
@@ -287,7 +290,7 @@ class Matcher:
         self.running = np.where(agreed, self.running + 1, 0)
         out = []
         for gi in np.flatnonzero(self.running >= HOLD):
-            self.done[gi] = self.tick
+            self._cutoff[self._postures_of[gi]] = self.tick - self.overlap[gi]
             self.running[gi] = 0
             if not self.announced[gi]:  # not said yet (the classifier alone was sure): say so, then complete
                 out.append(Match(int(gi), float(ratio[gi]), False))
