@@ -65,13 +65,11 @@ def describe_all(postures: np.ndarray) -> np.ndarray:
 def _descriptors(padded: np.ndarray, ends: np.ndarray) -> np.ndarray:
     """Descriptors ending at smoothed postures `ends` of `padded` (index k: padded[k + 2])."""
     q = (padded[2:] + padded[1:-1] + padded[:-2]) / 3  # a 3-posture moving average ending at each
-    parts = []
-    for lag in range(0, WINDOW, LAG_STEP):
-        now, back = q[ends - lag], q[ends - lag - 2]
-        parts += [now, now[:, :3] - now[:, 3:], 3.0 * (now - back)]
+    at = ends[:, None] - np.arange(0, WINDOW, LAG_STEP)  # (n, lags): the instants sampled
+    now, back = q[at], q[at - 2]
+    sampled = np.concatenate([now, now[..., :3] - now[..., 3:], 3.0 * (now - back)], axis=2).reshape(len(ends), -1)
     window = q[ends[:, None] - np.arange(WINDOW)]  # (n, WINDOW, 6), the latest first
-    parts += [window.std(axis=1), np.abs(np.diff(window, axis=1)).mean(axis=1) * 5.0]
-    return np.concatenate(parts, axis=1)
+    return np.concatenate([sampled, window.std(axis=1), np.abs(np.diff(window, axis=1)).mean(axis=1) * 5.0], axis=1)
 
 
 class Describer:

@@ -17,6 +17,7 @@ otherwise pull the torso up with them (docs/learned-gestures.md gives the cost).
 """
 from __future__ import annotations
 
+import statistics
 from collections import deque
 from dataclasses import dataclass
 from typing import Iterable, Mapping, Sequence
@@ -127,7 +128,7 @@ class PostureStream:
             size = float(np.linalg.norm(np.subtract(head, torso)))
             if size > 100.0:  # a real head above a real torso; anything else is a glitch
                 self._sizes.append(size)
-        size = float(np.median(self._sizes)) if self._sizes else DEFAULT_SIZE_MM
+        size = statistics.median(self._sizes) if self._sizes else DEFAULT_SIZE_MM
         centre = np.asarray(torso, float) if torso is not None else self._estimated_torso(t, seen, size)
         rel = []
         for side in (Side.LEFT, Side.RIGHT):
