@@ -19,11 +19,18 @@ their hands up to the eyes for goggles along an arc that sweeps round its centre
 does, and p02's goggles, straight up, must still be goggles.
 
 A performance completes a looping gesture only if, in one of those (hand, plane)s, the motion its
-best template has matched loops at least `loop` (AS_MUCH unless a profile says otherwise; 0 turns
-the check off). One hand is enough: a performer rolling one arm at a time. The motion read is the
-same share of the match as the window is of the taught repetition (matcher.py, `_matched`): the last
-WINDOW postures for a performer as fast as the teachers, fewer for a faster one, so a quick
-performer's rest and next repetition are not read as part of the loop, more for a slower one.
+best template has matched has gone round a loop (`closed_loopiness`) of at least `loop` (AS_MUCH
+unless a profile says otherwise; 0 turns the check off). One hand is enough: a performer rolling one
+arm at a time. Gone round, not only swept round: hands on their way up sweep half a loop, and a slow
+performer's big circle matched that far completed it before it was drawn (MSRC-12 p06 winds one
+circle in 2.5 s, up in front and down at the sides; wind_it_up completed at the top, 2-3 s before
+the action point); hands that beat or shoot along an arc do not go round either. On MSRC-12 taught
+by p01-p03, against reading how far the hands swept round (`loopiness`): false fires 0.082 -> 0.073
+on p04-p10 and 0.070 -> 0.058 leaving one teacher out, recall 0.890 and 0.691 -> 0.687 (p06's
+wind_it_up 0.18 -> 0.27); matcher.AGREE was then chosen again. The motion read is the same share
+of the match as the window is of the taught repetition (matcher.py, `_matched`): the last WINDOW
+postures for a performer as fast as the teachers, fewer for a faster one, so a quick performer's
+rest and next repetition are not read as part of the loop, more for a slower one.
 Gestures whose repetitions do not loop (a punch, a beat, goggles) are not checked.
 """
 from __future__ import annotations
@@ -98,14 +105,15 @@ class LoopCheck:
 
     def passes(self, matched: Callable[[int], np.ndarray], among: np.ndarray | None = None) -> np.ndarray:
         """(gestures,) bool: not a looping gesture, or the motion `matched(g)` (postures (n, 6)) that
-        gesture g's best template has matched loops as its teachers' did. Read only for the gestures
-        `among` ((gestures,) bool; all by default): the matcher asks for those whose templates are
-        close enough to complete, so the loop is not measured at every posture for every gesture."""
+        gesture g's best template has matched has gone round a loop where its teachers' did. Read only
+        for the gestures `among` ((gestures,) bool; all by default): the matcher asks for those whose
+        templates are close enough to complete, so the loop is not measured at every posture for every
+        gesture."""
         out = ~self.checked
         for g in np.flatnonzero(self.checked if among is None else self.checked & among):
             motion = matched(g)
             if len(motion) >= MIN_SEEN:
-                out[g] = bool(np.any((self.taught[g] > 0) & (loopiness(motion) >= self.need[g])))
+                out[g] = bool(np.any((self.taught[g] > 0) & (closed_loopiness(motion) >= self.need[g])))
         return out
 
     def describe(self, g: int) -> str:

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from host.learned.gesture_file import LearnedGesture
-from host.learned.loops import WINDOW, LoopCheck, closed_loopiness, loopiness
+from host.learned.loops import AS_MUCH, WINDOW, LoopCheck, closed_loopiness, loopiness
 from tests.host.learned.performer import REST, circle, punch
 
 
@@ -72,3 +72,13 @@ def test_one_looping_hand_is_enough_and_a_profile_may_turn_the_check_off():
     line[:, 0] = np.linspace(-0.3, 0.3, WINDOW)
     assert not LoopCheck([_gesture("both")], reps).passes(lambda g: line)[0]
     assert LoopCheck([_gesture("both", loop=0.0)], reps).passes(lambda g: line)[0]
+
+
+def test_hands_half_way_round_do_not_complete_a_loop_yet():
+    """Half a turn sweeps round its centre as much as a loop does (loopiness), but has not gone round:
+    a slow performer's big circle matched that far is not complete until the hands come back."""
+    check = LoopCheck([_gesture("both")], [[_repetition(circle)] * 3])
+    half = _rolling(0.5)
+    assert loopiness(half)[0] > AS_MUCH  # what the check read before
+    assert not check.passes(lambda g: half)[0]
+    assert check.passes(lambda g: _rolling(1.0))[0]
