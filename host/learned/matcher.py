@@ -42,9 +42,9 @@ false fires 0.073 -> 0.070; on p04-p10 0.879 -> 0.890 (wind_it_up 0.61 -> 0.70: 
 p06 0 -> 0.18, p09 0 -> 0.25; beat_both 0.85 -> 0.87) with false fires 0.056 -> 0.082, most of
 them wind_it_up in p08's beat_both and p09's shoot. The slow templates make matching about three
 times as costly (twice the templates, twice as long): bench/learned.py prints it. Once the loop check
-asked for a loop gone round (loops.py), AGREE was chosen again by the same rule: 0.935 -> 0.92 (0.91
-gave false fires 0.073 leaving one teacher out). Leaving one teacher out, 0.691 / 0.070 -> 0.690 /
-0.068; on p04-p10 0.890 / 0.082 -> 0.895 / 0.076 (the harness's figures; bench/learned.py prints them).
+asked for a loop gone round in all a template has matched (loops.py), AGREE was chosen again by the
+same rule: 0.935 -> 0.92 (0.91 gave false fires 0.073 leaving one teacher out). Leaving one teacher
+out, 0.691 / 0.070 -> 0.694 / 0.070; on p04-p10 0.890 / 0.082 -> 0.895 / 0.078.
 
 A gesture is IN_PROGRESS (said once per attempt) when a path has come UNDER_WAY of the way to its
 `fires_at` point with a score below the threshold and the classifier does not rule it out (above
@@ -74,7 +74,7 @@ from host.learned.cache import trained
 from host.learned.classifier import Classifier, Describer
 from host.learned.features import RATE_HZ, resampled
 from host.learned.gesture_file import LearnedGesture
-from host.learned.loops import MIN_SEEN, WINDOW as LOOP_WINDOW, LoopCheck
+from host.learned.loops import LoopCheck
 
 MOTION_WEIGHT = 0.5  # how much the direction of motion counts next to where the hands are
 MOTION_SOFT = 1.0  # body units/s: motion slower than this counts less (direction of a still hand is noise)
@@ -145,9 +145,6 @@ class Matcher:
                     pace.append(slower)
         self.owner = np.array(owner, int)
         self.slow = np.array(pace) > 1  # a template of a repetition performed SLOWER times slower
-        # the share of a match the loop check reads: as much as its last loops.WINDOW postures are of
-        # the repetition as taught (of a slow template's repetition, not of the template: the loop)
-        self.loop_share = np.minimum(1.0, LOOP_WINDOW * np.array(pace) / np.array([len(p) for p in prefixes]))
         self._templates_of = [np.flatnonzero(self.owner == gi) for gi in range(len(gestures))]
         # every template's postures one after another, gesture by gesture: padded to the longest, the
         # templates would be mostly padding (the slow ones are twice as long)
@@ -259,14 +256,12 @@ class Matcher:
         return np.minimum.reduceat(self._score, self._gesture_templates)
 
     def _matched(self, gi: int) -> np.ndarray:
-        """The motion the loop check reads (loops.py): the end of what gesture `gi`'s best path has
-        matched, its template's `loop_share` of it."""
+        """The motion the loop check reads (loops.py): all that gesture `gi`'s best path has matched."""
         best = self._best(gi)
         seen = int(self.tick - self.start[self.end[best]])
         if not 0 < seen <= len(self._history):
             return np.zeros((0, 6))
-        read = min(seen, max(MIN_SEEN, round(self.loop_share[best] * seen)))
-        return np.array(list(islice(self._history, len(self._history) - read, None)))
+        return np.array(list(islice(self._history, len(self._history) - seen, None)))
 
     def _fresh(self, start: np.ndarray, at: np.ndarray | slice = slice(None)) -> np.ndarray:
         """Paths (started at ticks `start`, ending at template postures `at`) that may complete their
