@@ -34,8 +34,8 @@ THRESHOLD_FLOOR = 0.15  # body units: repetitions alike to the millimetre still 
 BOTH_HANDS = 0.4  # the quieter hand counts as used if it moves this share of the busier one
 IDLE_WEIGHT = 0.3  # an unused hand still counts this much: the rest of the body should look alike
 OUTLIER = 2.0  # a repetition scoring this many times the median is reported as far off
-MAX_REPETITIONS = 40  # more teach little that is new and cost time at every frame (10 gestures: about 0.5 ms, with
-# their templates at half pace, matcher.SLOWER)
+MAX_REPETITIONS = 40  # more teach little that is new and cost time at every frame (10 gestures: bench.learned's
+# `cost`, their templates at half pace included, matcher.SLOWER)
 SHORTEST, LONGEST = 0.6, 1.8  # a repetition outside this share of the typical length is not learned
 STYLE_MIN = 3  # repetitions: an example with this many, every one outside that share, is another pace of the gesture
 THRESHOLD_CEILING = 1.3  # body units (about 0.7 m for an adult): a performance farther than this on average from

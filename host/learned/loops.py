@@ -25,14 +25,14 @@ arm at a time. Gone round, not only swept round: hands on their way up sweep hal
 performer's big circle matched that far completed it before it was drawn (MSRC-12 p06 winds one
 circle in 2.5 s, up in front and down at the sides; wind_it_up completed at the top, 2-3 s before
 the action point); hands that beat or shoot along an arc do not go round either. On MSRC-12 taught
-by p01-p03, against reading how far the hands swept round (`loopiness`, on the last 1.3 s at
-the teaching's pace): false fires 0.082 -> 0.073
-on p04-p10 and 0.070 -> 0.058 leaving one teacher out, recall 0.890 and 0.691 -> 0.687 (p06's
-wind_it_up 0.18 -> 0.27); matcher.AGREE was then chosen again. The whole motion the template has
-matched is read (matcher.py, `_matched`), however slow: a loop that closes at its end is found in
-it, and a quick performer's rest and next repetition before it do not close there. Read on the
-last 1.3 s of the teaching's pace instead, a performer who taught their own slow rolls (4-7 s,
-"Teaching more" in docs/learned-gestures.md) was no longer found (p06 0.50 -> 0.00).
+by p01-p03, against reading how far the hands swept round (`loopiness`, on the last 1.3 s at the
+teaching's pace): false fires 0.082 -> 0.073 on p04-p10 and 0.070 -> 0.058 leaving one teacher
+out, recall 0.890 and 0.691 -> 0.687 (p06's wind_it_up 0.18 -> 0.27); matcher.AGREE was then
+chosen again. The whole motion the template has matched is read (matcher.py, `_matched`), however
+slow: a loop that closes at its end is found in it, and a quick performer's rest and next
+repetition before it do not close there. Read on the last 1.3 s of the teaching's pace instead, a
+performer who taught their own slow rolls (4-7 s, "Teaching more" in docs/learned-gestures.md) was
+no longer found (p06 0.50 -> 0.00).
 Gestures whose repetitions do not loop (a punch, a beat, goggles) are not checked.
 """
 from __future__ import annotations
