@@ -14,9 +14,11 @@ matched against the rules (rules.py):
   (further and faster) is the swipe and the other its wind-up or return, or both are part of a
   back-and-forth (neither is a swipe); the third of quick alternating strokes at a wave's height
   is a wave's, never a swipe, but sweeps slower than a wave's swings, or lower than a wave, are
-  swipes each. A reversal of a frame or two is a tracker's glitch: the strokes either side of it
-  are one. If the hand leaves the view meanwhile, the swipe completes, except a swipe down: a hand
-  lost after a stroke down went back to rest (a swipe down waits while its hand is unseen).
+  swipes each. A sideways swipe may also rise straight from the hanging arm across the body, out
+  in front (`swept_up_across`). A reversal of a frame or two is a tracker's glitch: the strokes
+  either side of it are one. If the hand leaves the view meanwhile, the swipe completes, except a
+  swipe down: a hand lost after a stroke down went back to rest (a swipe down waits while its hand
+  is unseen).
 - WAVE: several direction reversals of horizontal swings, from the wrist (4 cm) to the whole arm,
   each quick, reaching the shoulders' height or above (the first may be the arm swinging up
   into the wave from lower), with the other hand elsewhere (hands at the eyes or on the head, or
@@ -388,8 +390,12 @@ class _Hand:
         its hand's own side?"""
         if stroke.axis != X or self.hand.side is Side.UNKNOWN:
             return False
-        outwards = (1 if self.hand.side is Side.RIGHT else -1) * (1 if self.mirrored else -1)
+        outwards = self.outwards()
         return stroke.direction == outwards and outwards * stroke.end.p[X] >= reach_mm
+
+    def outwards(self) -> int:
+        """The direction along x away from the body on the hand's own side (its side known)."""
+        return (1 if self.hand.side is Side.RIGHT else -1) * (1 if self.mirrored else -1)
 
     def sure_swipe(self, stroke: Stroke) -> bool:
         """A swipe that is no wind-up, needing no wait for what follows: it starts from rest (a swipe
@@ -403,11 +409,8 @@ class _Hand:
         k = self.rec.size(stroke.start)
         start = stroke.start
         if (self.core(stroke).travel < r.swipe_min_travel_mm
-                or not self.out_to(stroke, r.swipe_sure_reach_mm * k) or start.t - start.seen_since < r.swipe_rest_s
+                or not self.out_to(stroke, r.swipe_sure_reach_mm * k) or not self.still_before(start, (X,))
                 or stroke.direction * float(start.p[X]) > r.swipe_sure_start_mm * k):
-            return False
-        before = [float(q.p[X]) for q in self.tr.samples if start.t - r.swipe_rest_s <= q.t <= start.t]
-        if not before or max(before) - min(before) >= r.swipe_rest_mm * k:  # none: older than the history kept
             return False
         for other in self.others:
             during = _during(other, stroke)
@@ -415,6 +418,18 @@ class _Hand:
                     r.swipe_comparable_ratio * stroke.travel):
                 return False
         return True
+
+    def still_before(self, start: Sample, axes: tuple[int, ...]) -> bool:
+        """Was the hand seen throughout `swipe_rest_s` before `start`, moving less than `swipe_rest_mm`
+        along `axes` (for the performer's size)?"""
+        r = self.r
+        if start.t - start.seen_since < r.swipe_rest_s:
+            return False
+        before = np.array([q.p for q in self.tr.samples if start.t - r.swipe_rest_s <= q.t <= start.t])
+        if not len(before):  # none: older than the history kept
+            return False
+        spread = before[:, list(axes)].max(axis=0) - before[:, list(axes)].min(axis=0)
+        return float(spread.max()) < r.swipe_rest_mm * self.rec.size(start)
 
     def swipe_under_way(self) -> None:
         """A sideways swipe is announced while its stroke is still under way, as soon as it is one; a
@@ -446,8 +461,30 @@ class _Hand:
 
     def is_swipe(self, stroke: Stroke) -> bool:
         core = self.core(stroke)
-        return (core.travel >= self.swipe_travel_mm(stroke) and self.swipe_like(stroke)
-                and not self.mirrored_by_other_hand(core, along=True))
+        return ((core.travel >= self.swipe_travel_mm(stroke) and self.swipe_like(stroke)) or self.swept_up_across(stroke)
+                ) and not self.mirrored_by_other_hand(core, along=True)
+
+    def swept_up_across(self, stroke: Stroke) -> bool:
+        """A swipe across the body straight from the hanging arm: the hand, still at its side, rises across
+        the spine in one diagonal out to an imaginary screen (Kinder-Gator's child p106 swipes so; too
+        upward for `swipe_dominance`). Judged whole, from where the arm hung, as the start of the arc rises
+        before it gathers speed sideways: a swipe's travel sideways, fast, ending above the rest line, no
+        higher than the chin (`above_chin`) and `swipe_across_min_reach_mm` out in front. A hand brought to
+        the chest (a push's wind-up) ends closer to the body, one reaching over the shoulder higher; arms
+        pumping as the body runs were not still before. It waits for a stroke back, which wins if
+        stronger: the rise wound it up (`wound_up`)."""
+        r = self.r
+        if stroke.axis != X or self.hand.side is Side.UNKNOWN or stroke.direction == self.outwards():
+            return False
+        start, end = stroke.start, stroke.end
+        if not (float(start.p[Y]) < r.active_min_height_mm <= float(end.p[Y]) and stroke.direction * float(end.p[X]) >= 0
+                and -float(end.p[Z]) >= r.swipe_across_min_reach_mm * self.rec.size(start)
+                and stroke.travel >= self.swipe_travel_mm(stroke) and stroke.duration <= r.swipe_max_duration_s):
+            return False  # the cheap tests first: this runs every frame a stroke is under way
+        core = self.core(stroke)
+        return (core.peak_speed >= r.swipe_min_peak_speed_mm_s and not self.above_chin(end)
+                and core.body_speed <= r.steady_body_max_vertical_speed_mm_s and self.still_before(start, (X, Y, Z))
+                and self.body_steady(stroke) and not self.arms_swinging(stroke))
 
     def swipe_travel_mm(self, stroke: Stroke) -> float:
         """How far a swipe goes at least: sideways for the performer's size, up or down an adult's."""
@@ -502,7 +539,7 @@ class _Hand:
         # makes a back-and-forth (a wave's first swings), and neither is. Otherwise the first is confirmed now.
         follows = pending is not None and self.comparable(stroke, pending)
         stronger = follows and self.strength(stroke) > self.strength(pending)
-        if pending is not None and (not follows or not (stronger or reversed_)):
+        if pending is not None and (not follows or not (stronger or reversed_)) and not self.wound_up(pending, stroke):
             self.confirm(pending)
         place = len(chain) if chain and chain[-1] is stroke else 1
         # the third of quick alternating strokes at a wave's height is a wave's; a slower or lower sweep is not
@@ -520,7 +557,9 @@ class _Hand:
         if pending is None:
             return
         due = pending.end.t + self.r.swipe_confirm_s
-        if self.sure_swipe(pending):  # at once, or when the refractory period ends if sooner than `due`
+        if self.swept_up_across(pending):  # the hand may pause there before the swipe back that the rise wound up
+            due = pending.end.t + max(self.r.swipe_confirm_s, self.r.swipe_rest_s)
+        elif self.sure_swipe(pending):  # at once, or when the refractory period ends if sooner than `due`
             due = min(due, max(pending.end.t, self.tr.refractory_until))
         if self.t < due:
             return
@@ -528,14 +567,31 @@ class _Hand:
             return
         current = self.tr.strokes[axis].current()
         if current is not None and current.direction == -pending.direction and (
-                self.swipe_like(current) or self.turned_into(pending, current)):
-            return  # a fast stroke the other way, or one the hand turned straight into, is under way: wait for it
+                self.swipe_like(current) or self.turned_into(pending, current) or self.swept_up_across(pending)):
+            # a fast stroke the other way, or one the hand turned straight into, is under way: wait for it
+            # (after a rise across the body, any stroke back: the rise may have wound up a swipe back)
+            return
         del self.tr.pending[axis]
         self.confirm(pending)
 
+    def above_chin(self, s: Sample) -> bool:
+        """Is the hand higher than a swipe across the body ends (`swipe_across_max_above_shoulder_mm`), or at
+        the head?"""
+        limit = s.shoulder + self.r.swipe_across_max_above_shoulder_mm * self.rec.size(s)
+        return float(s.p[Y]) > limit or self.at_head(s)
+
+    def wound_up(self, rise: Stroke, back: Stroke) -> bool:
+        """Did a rise across the body wind up `back`, a stronger stroke back, swipe or not (a throw, a
+        push, a roll of the arms)?"""
+        return (back.direction == -rise.direction and self.swept_up_across(rise)
+                and self.strength(back) > self.strength(rise))
+
     def confirm(self, stroke: Stroke) -> None:
         """Complete a pending swipe, unless the body has rocked forward or back meanwhile (a kick's
-        or a lunge's torso may move only after the arm's swing for balance)."""
+        or a lunge's torso may move only after the arm's swing for balance), or a rise across the body
+        went on up (reaching over the shoulder)."""
+        if self.swept_up_across(stroke) and self.above_chin(self.tr.samples[-1]):
+            return
         if self.body_steady(stroke):
             self.emit(self.swipe_name(stroke), GestureState.COMPLETE, self.swipe_confidence(stroke), stroke.end)
 
@@ -749,6 +805,7 @@ class _Hand:
         with both hands)?"""
         core = self.core(stroke)
         ratio = self.r.swipe_comparable_ratio
+        advance = float(core.start.p[Z] - core.end.p[Z])  # how far this hand came forward
         hanging = (together and core.start.p[Y] - core.start.shoulder
                    <= -self.r.click_hanging_below_shoulder_mm * self.rec.size(core.start))
         for other in self.others:
@@ -757,9 +814,9 @@ class _Hand:
                 continue
             forward, up = during[0].p[Z] - during[-1].p[Z], during[-1].p[Y] - during[0].p[Y]
             if together:
-                if hanging and forward >= ratio * core.travel and up >= ratio * core.travel:
+                if hanging and forward >= ratio * advance and up >= ratio * advance:
                     return True
-            elif forward <= -ratio * core.travel:
+            elif forward <= -ratio * advance:
                 return True
         return False
 

@@ -61,6 +61,15 @@ class GestureRules(BaseModel):
     swipe_low_min_reach_mm: float = Field(
         350.0, gt=0, description="how far out from the spine, on its own side, such a low swipe must end "
         "(beyond the shoulder: a hanging hand is 150-250 mm out)")
+    swipe_across_min_reach_mm: float = Field(
+        350.0, gt=0, description="a swipe across the body straight from the hanging arm (rising from its side "
+        "across the spine in one diagonal, out to an imaginary screen) ends at least this far in front of the "
+        "torso (for an adult, scaled to the performer's size): a hand brought to the chest to wind up a push or "
+        "a swipe back ends closer")
+    swipe_across_max_above_shoulder_mm: float = Field(
+        100.0, description="such a swipe ends no higher than this above the shoulder line (about the chin; for an "
+        "adult, scaled to the performer's size): a hand reaching over the shoulder (MSRC-12's change weapon) or "
+        "to the head goes higher")
     swipe_vertical_max_head_move_mm: float = Field(
         80.0, gt=0, description="during a swipe up or down the head moves no more than this relative to the torso "
         "(for an adult, scaled to the performer's size): the arm moves, the body stays; an arm thrown up or "

@@ -162,6 +162,19 @@ def windup_swipe(windup: float = 250.0, start: tuple[float, float, float] = (150
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
 
 
+def rise_across(to: tuple[float, float, float] = (-220.0, 150.0, -420.0), seconds: float = 0.45,
+                back: float | None = None, pause: float = 0.1, back_s: float = 0.35) -> Performance:
+    """The right hand, hanging still at its side, rises across the body in one diagonal to `to` (a swipe
+    to the left across an imaginary screen, as Kinder-Gator's adults and children swipe), holds, drops
+    back; or, `back` given, after `pause` s sweeps back flat to x = `back` in `back_s` s (a rise that
+    winds up a swipe back, as MSRC-12's push right and UTD-MHAD's subject 4 do)."""
+    right = rest(Side.RIGHT).hold(1.0).then(seconds, to)
+    if back is not None:
+        right = right.hold(pause).then(back_s, (back, to[1], to[2]))
+    right = right.hold(0.5).then(0.8, REST[Side.RIGHT])
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
+
+
 def low_sweep(outwards: bool = True, height: float = -230.0, travel: float = 550.0, duration: float = 0.5) -> Performance:
     """The right hand sweeps sideways at waist height (`height` mm below the torso), outwards to end
     far out on the performer's right, or inwards across the body (an arm balancing a kick)."""

@@ -79,6 +79,30 @@ def test_a_childs_short_wind_up_from_rest_waits_and_the_swipe_across_it_turned_i
     assert completed(perform(windup)) == ["swipe_left"]
 
 
+@pytest.mark.parametrize("k", [1.0, 0.75])
+def test_a_swipe_rising_from_the_hanging_arm_across_the_body_is_a_swipe(k):
+    """Kinder-Gator's child p106 swipes so: 428 mm across while rising 362 mm, out 307 mm in front (0.82
+    of an adult). Here 420 mm across, 480 mm up, ending 420 mm in front, by an adult or a child."""
+    rise = c.rise_across()
+    rise.size = k
+    assert completed(perform(rise)) == ["swipe_left"]
+
+
+def test_a_rise_across_the_body_that_winds_up_a_stronger_swipe_back_is_its_wind_up():
+    """UTD-MHAD's subject 4 and MSRC-12's p02, p03 and p06 swipe right so: the rise across, further and
+    faster, waits for the stroke back and loses to it."""
+    assert completed(perform(c.rise_across(back=500.0))) == ["swipe_right"]
+
+
+@pytest.mark.parametrize("to, loosened", [
+    ((-200.0, 450.0, -380.0), {"swipe_across_max_above_shoulder_mm": 300.0}),  # over the shoulder (change weapon)
+    ((-150.0, 100.0, -250.0), {"swipe_across_min_reach_mm": 200.0}),  # to the chest (a push's wind-up)
+])
+def test_a_hand_brought_across_to_the_shoulder_or_the_chest_is_no_swipe(to, loosened):
+    assert completed(perform(c.rise_across(to=to))) == []
+    assert completed(perform(c.rise_across(to=to), GestureRules(**loosened))) == ["swipe_left"]
+
+
 def test_the_wind_up_before_a_swipe_is_not_a_swipe_the_other_way():
     events = perform(c.windup_swipe())
     assert completed(events) == ["swipe_left"]
