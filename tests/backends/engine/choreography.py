@@ -165,7 +165,7 @@ def windup_swipe(windup: float = 250.0, start: tuple[float, float, float] = (150
 def rise_across(to: tuple[float, float, float] = (-220.0, 150.0, -420.0), seconds: float = 0.45,
                 back: float | None = None, pause: float = 0.1, back_s: float = 0.35) -> Performance:
     """The right hand, hanging still at its side, rises across the body in one diagonal to `to` (a swipe
-    to the left across an imaginary screen, as Kinder-Gator's adults and children swipe), holds, drops
+    to the left across an imaginary screen, as Kinder-Gator's child p106 swipes), holds, drops
     back; or, `back` given, after `pause` s sweeps back flat to x = `back` in `back_s` s (a rise that
     winds up a swipe back, as MSRC-12's push right and UTD-MHAD's subject 4 do)."""
     right = rest(Side.RIGHT).hold(1.0).then(seconds, to)

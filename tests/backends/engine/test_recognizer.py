@@ -89,8 +89,8 @@ def test_a_swipe_rising_from_the_hanging_arm_across_the_body_is_a_swipe(k):
 
 
 def test_a_rise_across_the_body_that_winds_up_a_stronger_swipe_back_is_its_wind_up():
-    """UTD-MHAD's subject 4 and MSRC-12's p02, p03 and p06 swipe right so: the rise across, further and
-    faster, waits for the stroke back and loses to it."""
+    """UTD-MHAD's subject 4 and MSRC-12's p02, p03 and p06 swipe right so: the rise across waits for the
+    stroke back, further and faster, and loses to it."""
     assert completed(perform(c.rise_across(back=500.0))) == ["swipe_right"]
 
 
