@@ -557,7 +557,8 @@ class _Hand:
         if pending is None:
             return
         due = pending.end.t + self.r.swipe_confirm_s
-        if self.swept_up_across(pending):  # the hand may pause there before the swipe back that the rise wound up
+        rose_across = self.swept_up_across(pending)
+        if rose_across:  # the hand may pause there before the swipe back that the rise wound up
             due = pending.end.t + max(self.r.swipe_confirm_s, self.r.swipe_rest_s)
         elif self.sure_swipe(pending):  # at once, or when the refractory period ends if sooner than `due`
             due = min(due, max(pending.end.t, self.tr.refractory_until))
@@ -567,7 +568,7 @@ class _Hand:
             return
         current = self.tr.strokes[axis].current()
         if current is not None and current.direction == -pending.direction and (
-                self.swipe_like(current) or self.turned_into(pending, current) or self.swept_up_across(pending)):
+                self.swipe_like(current) or self.turned_into(pending, current) or rose_across):
             # a fast stroke the other way, or one the hand turned straight into, is under way: wait for it
             # (after a rise across the body, any stroke back: the rise may have wound up a swipe back)
             return
