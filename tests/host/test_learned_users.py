@@ -57,7 +57,10 @@ def test_each_user_of_osc_in_gets_its_own_learned_gestures(tmp_path, punch_file)
     backend.start_hand_tracking()
     backend.start_gesture_detection()
     try:
-        sender = replay(session, backend.port, "--speed", "2", "--time-tags")
+        # at the recorded pace: osc-in makes frames at up to twice the 30 Hz the samples come at, so a
+        # loaded machine seldom folds two into one frame (at twice the pace it often did: the host's
+        # recogniser then saw fewer postures and completed 0.37 s late)
+        sender = replay(session, backend.port, "--time-tags")
         frames = collect(backend)
     finally:
         backend.stop()
@@ -75,7 +78,7 @@ def test_each_user_of_osc_in_gets_its_own_learned_gestures(tmp_path, punch_file)
     assert [g.name for g in expected] == ["punch", "punch"]
     assert [(g.name, g.user_id, g.side) for g in learned] == [("punch", 1, Side.RIGHT)] * 2  # never user 2's roll
     start = next(f.time for f in frames if f.users)  # the session's first joint: time 0 of the performance
-    for got, want in zip(learned, expected):  # the host sees frames: at 2x some hold two samples
+    for got, want in zip(learned, expected):  # the host sees frames: under load some hold two samples
         assert got.timestamp - start == pytest.approx(want.timestamp, abs=0.2)
         assert got.hand_id == 12  # user 1's right hand
 
