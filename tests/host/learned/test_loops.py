@@ -3,8 +3,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from host.learned.gesture_file import LearnedGesture
+from host.learned.gesture_file import LearnedGesture, TaughtRepetition
 from host.learned.loops import AS_MUCH, WINDOW, LoopCheck, closed_loopiness, loopiness
+from host.learned.matcher import HOLD, Matcher
 from tests.host.learned.performer import REST, circle, punch
 
 
@@ -82,3 +83,18 @@ def test_hands_half_way_round_do_not_complete_a_loop_yet():
     assert loopiness(half)[0] > AS_MUCH  # what the check read before
     assert not check.passes(lambda g: half)[0]
     assert check.passes(lambda g: _rolling(1.0))[0]
+
+
+def test_a_loop_found_at_one_of_the_postures_held_completes_and_none_found_does_not():
+    """Templates and classifier must agree for HOLD postures running; where the loop closes moves
+    as the match goes on, so the check may pass at one of them only (MSRC-12 p04's high, wide
+    circles passed it at one or two postures of three and were missed). Without it at any, nothing."""
+    roll = LearnedGesture("roll", "both", 0.5, 0.75, np.ones(6),
+                          [TaughtRepetition("take", 0.0, 1.6, _repetition(circle)) for _ in range(3)])
+    near, agree = np.array([0.1]), np.array([1.0])  # a template well below the threshold, the classifier sure
+    for looped_at, completes in ((1, True), (None, False)):
+        matcher = Matcher([roll], classify=False)
+        assert matcher.loops.checked[0]
+        done = [any(m.complete for m in matcher._decide(near, np.array([i == looped_at]), agree))
+                for i in range(HOLD + 2)]
+        assert done == ([False] * (HOLD - 1) + [True, False, False] if completes else [False] * (HOLD + 2))
