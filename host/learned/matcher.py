@@ -293,6 +293,8 @@ class Matcher:
         return [Match(int(gi), float(ratio[gi]), False) for gi in new]
 
     def _decide(self, per: np.ndarray, looped: np.ndarray, agree: np.ndarray) -> list[Match]:
+        """COMPLETE for each gesture whose templates (`per`) and classifier (`agree`) have agreed for
+        HOLD postures running, its loop (`looped`, loops.py) found at one of them at least."""
         ratio = per / self.thresholds
         agreed = ((per < self.close) & (agree > CLOSE)) | ((ratio < 1.0) & (agree > AGREE)) | \
             ((ratio < SURE_RATIO) & (agree > SURE))
