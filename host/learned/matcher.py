@@ -46,14 +46,14 @@ asked for a loop gone round in all a template has matched (loops.py), AGREE was 
 same rule: 0.935 -> 0.92 (0.91 gave false fires 0.073 leaving one teacher out). Leaving one teacher
 out, 0.691 / 0.070 -> 0.694 / 0.070; on p04-p10 0.890 / 0.082 -> 0.895 / 0.078.
 
-The loop need not pass at all HOLD postures, only at one of them: where the loop closes moves as
-the match goes on, so a loop found at one posture may not be found at the next (`_decide`). MSRC-12
-p04 rolls high and wide; templates and classifier agreed for three postures running and more, the
-loop passed at one or two of them, and wind_it_up was missed (2 of p04's 14). Asked at one of them, AGREE was
-chosen again by the same rule: 0.92 -> 0.925 (0.92 gave false fires 0.073 leaving one teacher out).
-Leaving one teacher out, 0.694 / 0.070 -> 0.697 / 0.070; on p04-p10 0.895 / 0.078 -> 0.897 / 0.082
-(wind_it_up 0.71 -> 0.73: p04 0.79 -> 0.93, p06 0.27 -> 0.45); with hands only 0.889 / 0.107 ->
-0.894 / 0.123.
+The loop need not pass at all HOLD postures, only at one of them: where the loop closes moves as the
+match goes on, so a loop found at one posture may not be found at the next (`_decide`). MSRC-12 p04
+rolls high and wide; templates and classifier agreed for three postures running and more, the loop
+passed at one or two of them, and wind_it_up was missed (2 of p04's 14). Asked at one of them, AGREE
+was chosen again by the same rule: 0.92 -> 0.925 (0.92 gave false fires 0.073 leaving one teacher
+out). Leaving one teacher out, 0.694 / 0.070 -> 0.697 / 0.070; on p04-p10 0.895 / 0.078 -> 0.897 /
+0.082 (wind_it_up 0.71 -> 0.73: p04 0.79 -> 0.93, p06 0.27 -> 0.45); with hands only 0.889 / 0.107
+-> 0.894 / 0.123.
 
 A gesture is IN_PROGRESS (said once per attempt) when a path has come UNDER_WAY of the way to its
 `fires_at` point with a score below the threshold and the classifier does not rule it out (above
