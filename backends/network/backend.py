@@ -98,7 +98,7 @@ class NetworkBackend(Backend):
                 frame = self._ready()
                 if frame is not None:
                     return frame
-                if self.accounting.ended and self.options.end_with_publisher:
+                if self.accounting.ended and self.options.end_with_publisher and self.accounting.settled():
                     return self._flush()
                 messages = self.transport.poll(self._wait_ms())
                 if not messages and not self._hands:

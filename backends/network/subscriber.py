@@ -25,6 +25,7 @@ from backends.network.command import how_to_serve
 from backends.network.publisher import endpoints
 
 SILENCE_S = 2.0
+BYE_GRACE_S = 0.5  # after a goodbye, how long messages it announced may still take to arrive
 Notice = Callable[[str], None]
 
 
@@ -93,6 +94,7 @@ class Accounting:
         self._silent = False
         self._lost_said: set[str] = set()
         self.ended = False  # the publisher said goodbye
+        self.ended_at = 0.0  # when (time.monotonic())
 
     def bad(self, error: wire.WireError) -> None:
         n = self.malformed.get(error.kind, 0)
@@ -128,6 +130,7 @@ class Accounting:
                 self.streams[name].announced = max(self.streams[name].announced, last)
             if msg.header.kind == wire.BYE:
                 self.ended = True
+                self.ended_at = now_mono
                 self.notice(f"publisher at {self.where} ended its show; waiting for it to come back")
             return True
         name = wire.STREAMS[h.kind]
@@ -138,6 +141,13 @@ class Accounting:
             why = " (newest wins under congestion)" if name == "depth" else ""
             self.notice(f"{name}: messages lost{why}; totals in the summary at exit")
         return fresh
+
+    def settled(self) -> bool:
+        """After the goodbye: has every message it announced arrived, or BYE_GRACE_S passed (the rest
+        is lost)? Over ROS each topic is a connection of its own, so the goodbye on the status topic
+        may overtake the last hands and depth (one hands message was counted lost so)."""
+        return (all(s.tail() == 0 for s in self.streams.values())
+                or time.monotonic() - self.ended_at >= BYE_GRACE_S)
 
     def waiting(self) -> str | None:
         """Until a publisher is heard: where one is awaited and how to start it; then None."""

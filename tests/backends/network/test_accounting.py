@@ -4,7 +4,7 @@ from __future__ import annotations
 import time
 
 from backends.network import wire
-from backends.network.subscriber import SILENCE_S, Accounting
+from backends.network.subscriber import BYE_GRACE_S, SILENCE_S, Accounting
 
 
 def hands(session: int, seq: int) -> wire.HandsMsg:
@@ -42,3 +42,16 @@ def test_until_a_publisher_is_heard_it_says_once_where_it_waits_and_what_to_star
     assert notes == [f"{waiting}; the show waits for it"]
     acc.accept(hands(1, 1))
     assert acc.waiting() is None and notes[-1] == "publisher at tcp://cam:1 found; receiving"
+
+
+def test_after_a_goodbye_the_messages_it_announced_are_awaited_a_moment_not_counted_lost():
+    """Over ROS each topic is its own connection: the goodbye may arrive before the last hands."""
+    acc = Accounting("http://master:1", lambda text: None)
+    acc.accept(hands(1, 1))
+    acc.accept(status(1, wire.BYE, 2))
+    assert acc.ended and not acc.settled()  # hands 2 is on its way
+    acc.accept(hands(1, 2))
+    assert acc.settled() and acc.to_json()["streams"]["hands"]["lost"] == 0
+    acc.accept(status(1, wire.BYE, 3))  # one that never comes: lost once the grace is over
+    acc.ended_at -= BYE_GRACE_S
+    assert acc.settled() and acc.to_json()["streams"]["hands"]["lost"] == 1
