@@ -93,8 +93,7 @@ class Accounting:
         self.last_message = time.monotonic()
         self._silent = False
         self._lost_said: set[str] = set()
-        self.ended = False  # the publisher said goodbye
-        self.ended_at = 0.0  # when (time.monotonic())
+        self.ended_at: float | None = None  # when the publisher said goodbye (time.monotonic())
 
     def bad(self, error: wire.WireError) -> None:
         n = self.malformed.get(error.kind, 0)
@@ -120,7 +119,7 @@ class Accounting:
                 self.notice(f"publisher at {self.where} restarted; receiving from its new run")
                 self._silent = False  # one message says it all
             self.session = h.session
-            self.ended = False
+            self.ended_at = None
         if self._silent:
             self.notice(f"publisher at {self.where} found; receiving" if first else f"{self.where} is sending again")
             self._silent = False
@@ -129,7 +128,6 @@ class Accounting:
             for name, last in msg.last.items():
                 self.streams[name].announced = max(self.streams[name].announced, last)
             if msg.header.kind == wire.BYE:
-                self.ended = True
                 self.ended_at = now_mono
                 self.notice(f"publisher at {self.where} ended its show; waiting for it to come back")
             return True
@@ -142,12 +140,17 @@ class Accounting:
             self.notice(f"{name}: messages lost{why}; totals in the summary at exit")
         return fresh
 
+    @property
+    def ended(self) -> bool:
+        """The publisher said goodbye (and has not started again)."""
+        return self.ended_at is not None
+
     def settled(self) -> bool:
         """After the goodbye: has every message it announced arrived, or BYE_GRACE_S passed (the rest
         is lost)? Over ROS each topic is a connection of its own, so the goodbye on the status topic
         may overtake the last hands and depth (one hands message was counted lost so)."""
         return (all(s.tail() == 0 for s in self.streams.values())
-                or time.monotonic() - self.ended_at >= BYE_GRACE_S)
+                or self.ended_at is not None and time.monotonic() - self.ended_at >= BYE_GRACE_S)
 
     def waiting(self) -> str | None:
         """Until a publisher is heard: where one is awaited and how to start it; then None."""
