@@ -5,7 +5,8 @@ import numpy as np
 
 from host.learned.gesture_file import LearnedGesture, TaughtRepetition
 from host.learned.loops import AS_MUCH, WINDOW, LoopCheck, closed_loopiness, loopiness
-from host.learned.matcher import HOLD, Matcher
+from host.learned.classifier import Classifier, _HISTORY, describe
+from host.learned.matcher import CLOSE, HOLD, Matcher
 from tests.host.learned.performer import REST, circle, punch
 
 
@@ -95,6 +96,37 @@ def test_a_loop_found_at_one_of_the_postures_held_completes_and_none_found_does_
     for looped_at, completes in ((1, True), (None, False)):
         matcher = Matcher([roll], classify=False)
         assert matcher.loops.checked[0]
-        done = [any(m.complete for m in matcher._decide(near, np.array([i == looped_at]), agree))
+        done = [any(m.complete for m in matcher._decide(near, np.array([i == looped_at]), agree, agree))
                 for i in range(HOLD + 2)]
         assert done == ([False] * (HOLD - 1) + [True, False, False] if completes else [False] * (HOLD + 2))
+
+
+def _always(probabilities: list[float]) -> Classifier:
+    """A classifier that gives these probabilities (gestures, then "none") whatever it is shown."""
+    size = len(describe(np.zeros((_HISTORY, 6))))
+    return Classifier(np.zeros(size), np.ones(size), np.zeros((2 * size, len(probabilities))), np.log(probabilities))
+
+
+def test_a_close_roll_the_classifier_takes_for_a_beat_completes_where_its_loop_is_found():
+    """MSRC-12 p06 winds slow, wide circles that the classifier takes for beat_both (0.95-0.97,
+    wind_it_up under CLOSE) while a wind_it_up template is close and the loop is found. A beat does
+    not loop: the loop tells them apart, so among the looping gestures and "none" the roll is not
+    ruled out, at each posture the loop is found (the classifier sure, one of them is enough: the
+    test above). Without the loop, or where the classifier sees rest ("none"), nothing completes."""
+    reps = [TaughtRepetition("take", 0.0, 1.6, _repetition(circle)) for _ in range(3)]
+    roll = LearnedGesture("roll", "both", 0.5, 0.75, np.ones(6), reps)
+    beat = LearnedGesture("beat", "right", 0.5, 0.75, np.ones(6),
+                          [TaughtRepetition("take", 0.0, 1.6, _repetition(punch)) for _ in range(3)])
+    near = np.array([0.1, np.inf])  # the roll's template well within "close"
+    confused, rest = [0.01, 0.97, 0.02], [0.001, 0.001, 0.998]
+    once = [True] + [False] * (HOLD - 1)
+    for probabilities, looped, completes in ((confused, [True] * HOLD, True), (confused, once, False),
+                                             (confused, [False] * HOLD, False), (rest, [True] * HOLD, False)):
+        matcher = Matcher([roll, beat], classifier=_always(probabilities))
+        assert matcher.loops.checked.tolist() == [True, False]
+        agree, among_loops = matcher._agree(REST.ravel())
+        assert agree[0] < CLOSE and among_loops[1] == 0.0  # the beat is not a looping gesture
+        assert np.isclose(among_loops[0], probabilities[0] / (probabilities[0] + probabilities[2]))
+        done = [any(m.complete for m in matcher._decide(near, np.array([found, True]), agree, among_loops))
+                for found in looped]
+        assert done == [False] * (HOLD - 1) + [completes]
