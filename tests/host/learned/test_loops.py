@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from host.learned.classifier import Classifier, describe_all
 from host.learned.gesture_file import LearnedGesture, TaughtRepetition
 from host.learned.loops import AS_MUCH, WINDOW, LoopCheck, closed_loopiness, loopiness
-from host.learned.classifier import Classifier, _HISTORY, describe
 from host.learned.matcher import CLOSE, HOLD, Matcher
 from tests.host.learned.performer import REST, circle, punch
 
@@ -103,7 +103,7 @@ def test_a_loop_found_at_one_of_the_postures_held_completes_and_none_found_does_
 
 def _always(probabilities: list[float]) -> Classifier:
     """A classifier that gives these probabilities (gestures, then "none") whatever it is shown."""
-    size = len(describe(np.zeros((_HISTORY, 6))))
+    size = describe_all(np.zeros((1, 6))).shape[1]
     return Classifier(np.zeros(size), np.ones(size), np.zeros((2 * size, len(probabilities))), np.log(probabilities))
 
 
@@ -111,11 +111,12 @@ def test_a_close_roll_the_classifier_takes_for_a_beat_completes_where_its_loop_i
     """MSRC-12 p06 winds slow, wide circles that the classifier takes for beat_both (0.95-0.97,
     wind_it_up under CLOSE) while a wind_it_up template is close and the loop is found. A beat does
     not loop: the loop tells them apart, so among the looping gestures and "none" the roll is not
-    ruled out, at each posture the loop is found (the classifier sure, one of them is enough: the
-    test above). Without the loop, or where the classifier sees rest ("none"), nothing completes."""
+    ruled out where the loop is found, at each of the postures held (a classifier sure of the roll
+    needs it at one of them: the test above). Without the loop, or where the classifier sees rest
+    ("none"), nothing completes."""
     reps = [TaughtRepetition("take", 0.0, 1.6, _repetition(circle)) for _ in range(3)]
     roll = LearnedGesture("roll", "both", 0.5, 0.75, np.ones(6), reps)
-    beat = LearnedGesture("beat", "right", 0.5, 0.75, np.ones(6),
+    beat = LearnedGesture("beat", "right", 0.5, 0.75, np.ones(6),  # out and back the same way: no loop
                           [TaughtRepetition("take", 0.0, 1.6, _repetition(punch)) for _ in range(3)])
     near = np.array([0.1, np.inf])  # the roll's template well within "close"
     confused, rest = [0.01, 0.97, 0.02], [0.001, 0.001, 0.998]
