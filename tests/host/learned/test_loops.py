@@ -23,8 +23,10 @@ def _rolling(turns: float, n: int = WINDOW) -> np.ndarray:
     return np.hstack([left, right])
 
 
-def _gesture(hands: str, loop: float | None = None) -> LearnedGesture:
-    return LearnedGesture("g", hands, 0.5, 0.75, np.ones(6), loop=loop)
+def _gesture(hands: str, loop: float | None = None, motion=None, name: str = "g") -> LearnedGesture:
+    """A learned gesture; with `motion`, taught by three repetitions of it."""
+    reps = [TaughtRepetition("take", 0.0, 1.6, _repetition(motion)) for _ in range(3)] if motion else []
+    return LearnedGesture(name, hands, 0.5, 0.75, np.ones(6), reps, loop=loop)
 
 
 def test_loopiness_is_near_one_for_a_circle_either_way_round_and_zero_for_a_line():
@@ -90,8 +92,7 @@ def test_a_loop_found_at_one_of_the_postures_held_completes_and_none_found_does_
     """Templates and classifier must agree for HOLD postures running; where the loop closes moves
     as the match goes on, so the check may pass at one of them only (MSRC-12 p04's high, wide
     circles passed it at one or two postures of three and were missed). Without it at any, nothing."""
-    roll = LearnedGesture("roll", "both", 0.5, 0.75, np.ones(6),
-                          [TaughtRepetition("take", 0.0, 1.6, _repetition(circle)) for _ in range(3)])
+    roll = _gesture("both", motion=circle, name="roll")
     near, agree = np.array([0.1]), np.array([1.0])  # a template well below the threshold, the classifier sure
     for looped_at, completes in ((1, True), (None, False)):
         matcher = Matcher([roll], classify=False)
@@ -114,10 +115,8 @@ def test_a_close_roll_the_classifier_takes_for_a_beat_completes_where_its_loop_i
     ruled out where the loop is found, at each of the postures held (a classifier sure of the roll
     needs it at one of them: the test above). Without the loop, or where the classifier sees rest
     ("none"), nothing completes."""
-    reps = [TaughtRepetition("take", 0.0, 1.6, _repetition(circle)) for _ in range(3)]
-    roll = LearnedGesture("roll", "both", 0.5, 0.75, np.ones(6), reps)
-    beat = LearnedGesture("beat", "right", 0.5, 0.75, np.ones(6),  # out and back the same way: no loop
-                          [TaughtRepetition("take", 0.0, 1.6, _repetition(punch)) for _ in range(3)])
+    roll = _gesture("both", motion=circle, name="roll")
+    beat = _gesture("right", motion=punch, name="beat")  # out and back the same way: no loop
     near = np.array([0.1, np.inf])  # the roll's template well within "close"
     confused, rest = [0.01, 0.97, 0.02], [0.001, 0.001, 0.998]
     once = [True] + [False] * (HOLD - 1)
