@@ -69,7 +69,9 @@ def describe(g: LearnedGesture) -> str:
     lines += _held(g)
     loops = LoopCheck([g], taught_repetitions([g])).describe(0)
     if loops:
-        lines.append(f"  loops: {loops}; a performance must loop too (docs/learned-gestures.md)")
+        lines.append(f"  loops: {loops}; a performance must loop too, facing the same way (docs/learned-gestures.md)")
+        if g.hands == "both":
+            lines.append("  also recognised rolled with either arm alone, on a loop as big as a taught hand's")
     if g.unlike:
         lines.append(f"  unlike: {len(g.unlike)} counter-examples, {sum(u.duration for u in g.unlike):.1f} s "
                      f"({', '.join(u.source for u in g.unlike)}): motions it is not")

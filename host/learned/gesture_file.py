@@ -9,7 +9,7 @@ artist gave any, `unlike`: whole takes of motions it must not be taken for (coun
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +20,17 @@ FORMAT = "issv-learned-gesture"
 NUMBER = (int, float)  # what a numeric field may be in the JSON
 VERSION = 1
 HANDS = ("left", "right", "both")
+IDLE_WEIGHT = 0.3  # an unused hand still counts this much: the rest of the body should look alike
+
+
+def hand_weights(hands: str) -> np.ndarray:
+    """The posture weights (left x y z, right x y z) of a gesture made with `hands`."""
+    weights = np.ones(6)
+    if hands == "left":
+        weights[3:] = IDLE_WEIGHT
+    elif hands == "right":
+        weights[:3] = IDLE_WEIGHT
+    return weights
 
 
 @dataclass
@@ -51,6 +62,17 @@ class LearnedGesture:
     paces: dict[str, float] = field(default_factory=dict)  # examples learned at a pace of their own: their length (s)
     unlike: list[TaughtRepetition] = field(default_factory=list)  # counter-examples: motions it is not (whole takes)
     loop: float | None = None  # a profile's override of how much a performance must loop (loops.py); not in the file
+
+    def with_one_arm(self, side: str) -> "LearnedGesture":
+        """This two-handed gesture performed with the `side` arm alone: each repetition with the other
+        hand held where it was when the repetition began (hanging at rest), weighted as unused."""
+        idle = slice(3, 6) if side == "left" else slice(0, 3)
+        reps = []
+        for rep in self.repetitions:
+            postures = rep.postures.copy()
+            postures[:, idle] = postures[0, idle]
+            reps.append(replace(rep, postures=postures))
+        return replace(self, hands=side, weights=hand_weights(side), repetitions=reps, left_out=[], unlike=[])
 
     def completes_at(self, postures: int) -> int:
         """How many of a repetition's `postures` come before it completes: its template (matcher.py)."""

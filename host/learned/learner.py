@@ -21,7 +21,7 @@ import numpy as np
 
 from host.errors import UserError
 from host.learned.features import RATE_HZ, resampled
-from host.learned.gesture_file import LearnedGesture, TaughtRepetition
+from host.learned.gesture_file import LearnedGesture, TaughtRepetition, hand_weights
 from host.learned.matcher import Matcher
 from host.learned.segment import find_repetitions
 
@@ -32,7 +32,6 @@ THRESHOLD_FACTOR = 2.42  # chosen with matcher.AGREE leave-one-teacher-out on MS
 # classifier veto, 2.34 before the classifier learned to say "none" to the unseen; see matcher.py)
 THRESHOLD_FLOOR = 0.15  # body units: repetitions alike to the millimetre still leave room for sensor noise
 BOTH_HANDS = 0.4  # the quieter hand counts as used if it moves this share of the busier one
-IDLE_WEIGHT = 0.3  # an unused hand still counts this much: the rest of the body should look alike
 OUTLIER = 2.0  # a repetition scoring this many times the median is reported as far off
 MAX_REPETITIONS = 40  # more teach little that is new and cost time at every frame (10 gestures: bench.learned's
 # `cost`, their templates at half pace included, matcher.SLOWER)
@@ -105,11 +104,8 @@ def hands_used(reps: list[TaughtRepetition]) -> tuple[str, np.ndarray]:
     for hand in (slice(0, 3), slice(3, 6)):
         spread.append(float(np.median([np.linalg.norm(np.ptp(r.postures[:, hand], axis=0)) for r in reps])))
     left, right = spread
-    if min(left, right) >= BOTH_HANDS * max(left, right):
-        return "both", np.ones(6)
-    if left > right:
-        return "left", np.array([1.0] * 3 + [IDLE_WEIGHT] * 3)
-    return "right", np.array([IDLE_WEIGHT] * 3 + [1.0] * 3)
+    hands = "both" if min(left, right) >= BOTH_HANDS * max(left, right) else "left" if left > right else "right"
+    return hands, hand_weights(hands)
 
 
 def consistency(gesture: LearnedGesture) -> np.ndarray:
@@ -121,7 +117,7 @@ def consistency(gesture: LearnedGesture) -> np.ndarray:
         if not others:
             continue
         alone = LearnedGesture(gesture.name, gesture.hands, 1.0, gesture.fires_at, gesture.weights, others)
-        matcher = Matcher([alone], classify=False)
+        matcher = Matcher([alone], classify=False, one_arm=False)
         out[i] = min(float(matcher.step(posture)[0]) for posture in rep.postures)
     return out
 

@@ -33,6 +33,19 @@ slow: a loop that closes at its end is found in it, and a quick performer's rest
 repetition before it do not close there. Read on the last 1.3 s of the teaching's pace instead, a
 performer who taught their own slow rolls (4-7 s, "Teaching more" in docs/learned-gestures.md) was
 no longer found (p06 0.50 -> 0.00).
+
+The loop must also face the way the taught loops did: a hand's areas swept in the three planes
+(`swept`) are its loop's shadows on them, their direction which way the loop faces, as close to the
+teachers' median way as all but TILT_PERCENT of the teachers' own. A hand pushed out to the side and
+brought back lower draws a loop lying flat: MSRC-12's push_right, never a roll (the teachers' rolls
+face the camera, leaning towards the side). On p04-p10 false fires 0.0825 -> 0.0804, leaving one
+teacher out 0.0697 -> 0.0665, recall unchanged in both. Two teachers alike give a tighter way
+(24-36 degrees) than all three (47): a floor of 45 degrees gave more false fires leaving one
+teacher out (0.067 -> 0.076) and no more recall, so there is none. The areas are unsigned: a loop
+leaning left or right faces the same way.
+
+A gesture taught with both hands performed with one arm (matcher.py, `forms`) must go round a
+loop at least as big (`least`: the length of the areas) as the median taught hand's.
 Gestures whose repetitions do not loop (a punch, a beat, goggles) are not checked.
 """
 from __future__ import annotations
@@ -48,6 +61,7 @@ WINDOW = 20  # postures (1.3 s at 15 Hz) of a taught repetition, up to where it 
 LOOPS = 0.45  # a (hand, plane) where the median taught repetition loops at least this much is a loop
 AS_MUCH = 0.3  # ... in which a performance must loop at least this much (a profile may override it)
 MIN_SEEN = 6  # postures: a shorter match is too little of the motion to tell a loop
+TILT_PERCENT = 5  # a performance's loop may face as far from the taught loops' way as all but this percent of theirs
 _SMALL = 0.02  # body units squared: a hand still along one axis encloses nothing, not 0/0
 
 
@@ -59,12 +73,25 @@ def _planes(postures: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return p[:, [0, 1, 0, 3, 4, 3]], p[:, [1, 2, 2, 4, 5, 5]]
 
 
+def swept(postures: np.ndarray) -> np.ndarray:
+    """Postures (n, 6) -> (2, 3): the area each hand's path sweeps round its centre in x-y, y-z and
+    x-z (body units squared). A hand's three are its loop's shadows on the three planes: their
+    length is how big the loop is, their direction which way it faces."""
+    a, b = _planes(postures)
+    return 0.5 * np.abs(np.sum(a[:-1] * b[1:] - a[1:] * b[:-1], axis=0)).reshape(2, 3)
+
+
 def loopiness(postures: np.ndarray) -> np.ndarray:
     """Postures (n, 6) -> (6,): how much the left hand loops in x-y, y-z and x-z, then the right:
     the area its path sweeps round its centre over the area of the ellipse its spread spans."""
     a, b = _planes(postures)
-    swept = 0.5 * np.abs(np.sum(a[:-1] * b[1:] - a[1:] * b[:-1], axis=0))
-    return swept / (2 * np.pi * a.std(axis=0) * b.std(axis=0) + _SMALL)
+    return swept(postures).ravel() / (2 * np.pi * a.std(axis=0) * b.std(axis=0) + _SMALL)
+
+
+def _size_and_facing(areas: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per hand, how big its loop is and the unit direction it faces, from its `swept` areas."""
+    size = np.linalg.norm(areas, axis=-1)
+    return size, areas / (size[..., None] + 1e-12)
 
 
 def closed_loopiness(postures: np.ndarray) -> np.ndarray:
@@ -88,20 +115,31 @@ def closed_loopiness(postures: np.ndarray) -> np.ndarray:
 
 class LoopCheck:
     """Per learned gesture, the loops its teachers drew (`taught`, (gestures, 6): the median
-    loopiness where it is a loop, else 0) and how much a performance must loop there (`need`)."""
+    loopiness where it is a loop, else 0), how much a performance must loop there (`need`), which
+    way the taught loops face (`faces`) and how far from that a performance's may (`tilt`), and how
+    big it must be (`least`)."""
 
-    def __init__(self, gestures: Sequence[LearnedGesture], taught: list[list[np.ndarray]]) -> None:
-        """taught[g]: gesture g's repetitions at RATE_HZ (matcher.taught_repetitions)."""
+    def __init__(self, gestures: Sequence[LearnedGesture], taught: list[list[np.ndarray]],
+                 one_arm: Sequence[bool] = ()) -> None:
+        """taught[g]: gesture g's repetitions at RATE_HZ (matcher.taught_repetitions); one_arm[g]:
+        gesture g is a two-handed one performed with one arm (`LearnedGesture.with_one_arm`)."""
         self.taught = np.zeros((len(gestures), 6))
+        self.faces = np.zeros((len(gestures), 3))
+        self.tilt = np.full(len(gestures), -1.0)
+        self.least = np.zeros(len(gestures))
         for g, (gesture, reps) in enumerate(zip(gestures, taught)):
             prefixes = [r[:gesture.completes_at(len(r))] for r in reps]
             median = np.median([loopiness(p[-WINDOW:]) for p in prefixes], axis=0)
             gone_round = np.percentile([closed_loopiness(p[-WINDOW:]) for p in prefixes], 75, axis=0)
-            used = [c for h, side in enumerate(("left", "right")) if gesture.hands in (side, "both")
-                    for c in range(3 * h, 3 * h + 3)]
-            loops = [c for c in used if median[c] >= LOOPS]
+            hands = [h for h, side in enumerate(("left", "right")) if gesture.hands in (side, "both")]
+            loops = [c for h in hands for c in range(3 * h, 3 * h + 3) if median[c] >= LOOPS]
             if any(gone_round[c] >= LOOPS for c in loops):  # a loop the hands go round, not an arc
                 self.taught[g, loops] = median[loops]
+                sizes, faces = _size_and_facing(np.array([swept(p)[hands] for p in prefixes]).reshape(-1, 3))
+                self.faces[g] = _size_and_facing(np.median(faces, axis=0))[1]
+                self.tilt[g] = np.percentile(faces @ self.faces[g], TILT_PERCENT)
+                if g < len(one_arm) and one_arm[g]:
+                    self.least[g] = float(np.median(sizes))
         self.need = np.array([AS_MUCH if g.loop is None else g.loop for g in gestures])
         self.checked = (self.taught > 0).any(axis=1) & (self.need > 0)
 
@@ -115,7 +153,10 @@ class LoopCheck:
         for g in np.flatnonzero(self.checked if among is None else self.checked & among):
             motion = matched(g)
             if len(motion) >= MIN_SEEN:
-                out[g] = bool(np.any((self.taught[g] > 0) & (closed_loopiness(motion) >= self.need[g])))
+                gone_round = ((self.taught[g] > 0) & (closed_loopiness(motion) >= self.need[g])).reshape(2, 3)
+                size, faces = _size_and_facing(swept(motion))
+                out[g] = bool(np.any(gone_round.any(axis=1) & (faces @ self.faces[g] >= self.tilt[g])
+                                     & (size >= self.least[g])))
         return out
 
     def describe(self, g: int) -> str:

@@ -65,6 +65,20 @@ leaving one teacher out nothing changes. Asked at every tier, not near a templat
 rose to 0.111 on p04-p10 (wind_it_up in 109 windows of other gestures instead of 57) and to 0.094
 leaving one teacher out, with the same recall there.
 
+A looping gesture taught with both hands is also matched on each arm alone (`forms`): its
+repetitions with the other hand held where it began, weighted as an unused hand, as templates of
+their own; completing any form completes the gesture, once (a completion cuts every form's paths).
+MSRC-12's teachers wind it up with both hands; p09 swings one arm at a time in a big circle, and
+the two-handed templates stayed 1.3-1.7 times the threshold away. A form on one arm must go round a
+loop as big as a taught hand's (loops.py): one hand moving alone draws smaller loops all the time
+(MSRC-12's push_right and kick fired wind_it_up in 23 more windows of p04-p10 without it). The
+classifier is trained on the gestures as taught, not on these forms: trained on them too,
+wind_it_up was found in 0.96 of p04-p10's instances but fired in windows of other gestures at 0.11
+(0.175 without the loop's size and facing), above the target. On p04-p10 (taught by p01-p03), with
+the loop's facing (loops.py): wind_it_up 0.747 -> 0.815 (p09 5 -> 14 of 20, p07 38 -> 39 of 55: its
+right arm rolled alone is read as rest by the classifier), mean 0.899 -> 0.911, false fires 0.0825
+-> 0.0859; leaving one teacher out, 0.697 / 0.070 -> 0.694 / 0.067 (wind_it_up 0.633 -> 0.612).
+
 A gesture is IN_PROGRESS (said once per attempt) when a path has come UNDER_WAY of the way to its
 `fires_at` point with a score below the threshold and the classifier does not rule it out (above
 CLOSE, the least any completion asks); the attempt is over when it completes or when no path past
@@ -141,31 +155,50 @@ def counter_examples(gestures: list[LearnedGesture]) -> list[list[np.ndarray]]:
     return [[resampled(u.postures, g.rate_hz) for u in g.unlike] for g in gestures]
 
 
+def forms(gestures: list[LearnedGesture],
+          taught: list[list[np.ndarray]] | None) -> tuple[list[LearnedGesture], np.ndarray]:
+    """What is matched: each gesture as taught and, given its repetitions `taught` (at RATE_HZ), each
+    looping gesture taught with both hands performed with either arm alone (`with_one_arm`); and the
+    gesture each form is of. Such a form completes only on a loop as big as a taught hand's
+    (loops.py)."""
+    out, of = list(gestures), list(range(len(gestures)))
+    if taught is not None:
+        for gi in np.flatnonzero(LoopCheck(gestures, taught).checked):
+            if gestures[gi].hands == "both":
+                out += [gestures[gi].with_one_arm(side) for side in ("left", "right")]
+                of += [gi, gi]
+    return out, np.array(of, int)
+
+
 class Matcher:
     """Fed one posture at a time (RATE_HZ); says which learned gestures it completes."""
 
     def __init__(self, gestures: list[LearnedGesture], thresholds: list[float] | None = None,
-                 classify: bool = True, classifier: Classifier | None = None) -> None:
+                 classify: bool = True, classifier: Classifier | None = None, one_arm: bool = True) -> None:
         """`classify=False`: templates alone (the learner's consistency check, which needs no veto);
-        `classifier`: one already trained on these gestures (else the one of this set, cache.py)."""
+        `classifier`: one already trained on these gestures (else the one of this set, cache.py);
+        `one_arm=False`: no looping gesture taught with both hands is matched on one arm (`forms`)."""
         self.gestures = gestures
-        self.thresholds = np.array(thresholds if thresholds is not None else [g.threshold for g in gestures], float)
-        # a threshold loosened in a profile does not loosen "close": look-alikes still need the classifier
-        self.close = CLOSE_RATIO * np.minimum(self.thresholds, [g.threshold for g in gestures])
-        prefixes, owner, pace, typical = [], [], [], []
         taught = taught_repetitions(gestures)
-        for gi, (g, reps) in enumerate(zip(gestures, taught)):
+        self.forms, self.gesture_of_form = forms(gestures, taught if one_arm else None)
+        forms_taught = taught + taught_repetitions(self.forms[len(gestures):])
+        thresholds = np.array(thresholds if thresholds is not None else [g.threshold for g in gestures], float)
+        self.thresholds = thresholds[self.gesture_of_form]
+        # a threshold loosened in a profile does not loosen "close": look-alikes still need the classifier
+        self.close = CLOSE_RATIO * np.minimum(thresholds, [g.threshold for g in gestures])[self.gesture_of_form]
+        prefixes, owner, pace, typical = [], [], [], []
+        for fi, (form, reps) in enumerate(zip(self.forms, forms_taught)):
             typical.append(float(np.median([len(r) for r in reps])))
             for r in reps:
                 for slower in (1, SLOWER):
                     postures = resampled(r, RATE_HZ / slower)
-                    prefixes.append(motion(postures)[:g.completes_at(len(postures))])
-                    owner.append(gi)
+                    prefixes.append(motion(postures)[:form.completes_at(len(postures))])
+                    owner.append(fi)
                     pace.append(slower)
-        self.owner = np.array(owner, int)
+        owner = np.array(owner, int)
         self.slow = np.array(pace) > 1  # a template of a repetition performed SLOWER times slower
-        self._templates_of = [np.flatnonzero(self.owner == gi) for gi in range(len(gestures))]
-        # every template's postures one after another, gesture by gesture: padded to the longest, the
+        self._templates_of = [np.flatnonzero(owner == fi) for fi in range(len(self.forms))]
+        # every template's postures one after another, form by form: padded to the longest, the
         # templates would be mostly padding (the slow ones are twice as long)
         lengths = np.array([len(p) for p in prefixes], int)
         self.end = np.cumsum(lengths) - 1  # each template's last posture
@@ -173,17 +206,16 @@ class Matcher:
         self._first = np.flatnonzero(place == 0)  # postures with none before them in their template
         self._second = np.flatnonzero(place <= 1)  # ... with fewer than two
         of = np.repeat(np.arange(len(lengths)), lengths)  # each posture's template
-        self.gesture_of = self.owner[of]
-        self._gesture_templates = np.array([rows[0] for rows in self._templates_of], int)  # each one's first
-        self._gesture_postures = (self.end - lengths + 1)[self._gesture_templates]  # ... and its first posture
-        bounds = [*self._gesture_postures, len(place)]
-        self._postures_of = [slice(a, b) for a, b in zip(bounds, bounds[1:])]  # each gesture's postures
+        self._form_templates = np.array([rows[0] for rows in self._templates_of], int)  # each form's first
+        self._form_postures = (self.end - lengths + 1)[self._form_templates]  # ... and its first posture
+        bounds = [*self._form_postures, len(place)]
+        self._postures_of = [slice(a, b) for a, b in zip(bounds, bounds[1:])]  # each form's postures
         under_way = np.maximum(1, np.round(UNDER_WAY * (lengths - 1))).astype(int)
         self.late = place >= under_way[of]  # past the point an attempt counts as under way
         self.templates = np.concatenate(prefixes, dtype=np.float32) if prefixes else np.zeros((0, 12), np.float32)
-        self.weights = np.array([np.tile(g.weights, 2) for g in gestures], np.float32).reshape(-1, 12)[self.gesture_of]
+        self.weights = np.array([np.tile(f.weights, 2) for f in self.forms], np.float32).reshape(-1, 12)[owner[of]]
         self.band = 2.0 * (place + 1)  # at most twice as slow as the template
-        self.overlap = np.array([FRESH * t for t in typical])  # ticks, per gesture
+        self.overlap = np.array([FRESH * t for t in typical])  # ticks, per form
         self.cost = np.full(len(place), np.inf, np.float32)  # accumulated distance of the best path ending here
         self.steps = np.ones(len(place), np.float32)  # its weight (template postures covered, stays included)
         self.start = np.zeros(len(place), np.int64)  # the tick at which that path began
@@ -192,13 +224,13 @@ class Matcher:
         self._cutoff = np.full(len(place), -1e9)  # per posture: a fresh path began after this tick
         self.announced = np.zeros(len(gestures), bool)  # IN_PROGRESS said for the current attempt
         self.classifier = classifier or (trained(taught, counter_examples(gestures)) if classify and gestures else None)
-        self.loops = LoopCheck(gestures, taught)
+        self.loops = LoopCheck(self.forms, forms_taught, [fi >= len(gestures) for fi in range(len(self.forms))])
         self._history: deque[np.ndarray] = deque(maxlen=2 * int(lengths.max(initial=1)) + 1)  # postures a path may span
         self._score = np.full(len(lengths), np.inf)  # each template's score at its `fires_at` point, this posture
         self.describer = Describer()
         self.slow_describer = Describer(pace=SLOWER)
-        self.running = np.zeros(len(gestures))  # postures templates and classifier have agreed
-        self.looped = np.zeros(len(gestures), bool)  # ... and the loop check passed at one of them
+        self.running = np.zeros(len(self.forms))  # postures templates and classifier have agreed
+        self.looped = np.zeros(len(self.forms), bool)  # ... and the loop check passed at one of them
 
     def reset(self) -> None:
         """The stream broke (a hand gone): no path continues across the gap."""
@@ -217,39 +249,39 @@ class Matcher:
             return []
         self._history.append(posture)
         per = self.step(posture)
-        possible = per < SURE_RATIO * self.thresholds  # no gesture further away completes (`_decide`)
+        possible = per < SURE_RATIO * self.thresholds  # no form further away completes (`_decide`)
         looped = self.loops.passes(self._matched, possible)
         agree, among_loops = self._agree(posture)
         return self._announce(agree) + self._decide(per, looped, agree, among_loops)
 
     def _agree(self, posture: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The classifier's probability of each gesture: at the taught pace, and for a looping gesture
-        whose best template is a slow one, at that pace (every SLOWER-th posture). And of each looping
-        gesture among the looping gestures and "none" only (0 for the others): where its loop is
-        found, the gestures that do not loop are told apart by that (`_decide`)."""
+        """Per form, the classifier's probability of its gesture: at the taught pace, and for a
+        looping form whose best template is a slow one, at that pace (every SLOWER-th posture). And of
+        a looping form's gesture among the looping gestures and "none" only (0 for the others): where
+        its loop is found, the gestures that do not loop are told apart by that (`_decide`)."""
         if self.classifier is None:
-            return np.ones(len(self.gestures)), np.zeros(len(self.gestures))
+            return np.ones(len(self.forms)), np.zeros(len(self.forms))
         probabilities = self.classifier.probabilities(self.describer.push(posture))
-        read = np.tile(probabilities, (len(self.gestures), 1))  # row g: what gesture g is read by
+        read = np.tile(probabilities, (len(self.forms), 1))  # row f: what form f is read by
         checked = self.loops.checked
         if checked.any():
             self.slow_describer.add(posture)
-            slow = [gi for gi in np.flatnonzero(checked) if self.slow[self._best(gi)]]
+            slow = [fi for fi in np.flatnonzero(checked) if self.slow[self._best(fi)]]
             if slow:
                 read[slow] = self.classifier.probabilities(self.slow_describer.descriptor())
-        agree = np.diagonal(read).copy()
-        rivals = read[:, -1] + read[:, :-1][:, checked].sum(axis=1)
+        agree = read[np.arange(len(self.forms)), self.gesture_of_form]
+        rivals = read[:, -1] + read[:, :-1][:, checked[:len(self.gestures)]].sum(axis=1)
         among_loops = np.where(checked, agree / np.maximum(rivals, 1e-12), 0.0)
         return agree, among_loops
 
-    def _best(self, gi: int) -> int:
-        """The template of gesture `gi` that matches best at its `fires_at` point, this posture."""
-        rows = self._templates_of[gi]
+    def _best(self, fi: int) -> int:
+        """The template of form `fi` that matches best at its `fires_at` point, this posture."""
+        rows = self._templates_of[fi]
         return int(rows[np.argmin(self._score[rows])])
 
     def step(self, posture: np.ndarray) -> np.ndarray:
-        """Advance every path by one posture; each gesture's best score at its `fires_at` point, of
-        the paths that began after its last completion (see `_fresh`)."""
+        """Advance every path by one posture; each form's best score at its `fires_at` point, of the
+        paths that began after its gesture's last completion (see `_fresh`)."""
         self._recent = (self._recent + [posture])[-3:]
         posture = motion(np.array(self._recent))[-1]
         diff = self.templates - posture.astype(np.float32)
@@ -280,11 +312,11 @@ class Matcher:
         self.tick += 1
         end = self.end
         self._score = np.where(self._fresh(self.start[end], end), self.cost[end] / self.steps[end], np.inf)
-        return np.minimum.reduceat(self._score, self._gesture_templates)
+        return np.minimum.reduceat(self._score, self._form_templates)
 
-    def _matched(self, gi: int) -> np.ndarray:
-        """The motion the loop check reads (loops.py): all that gesture `gi`'s best path has matched."""
-        best = self._best(gi)
+    def _matched(self, fi: int) -> np.ndarray:
+        """The motion the loop check reads (loops.py): all that form `fi`'s best path has matched."""
+        best = self._best(fi)
         seen = int(self.tick - self.start[self.end[best]])
         if not 0 < seen <= len(self._history):
             return np.zeros((0, 6))
@@ -298,22 +330,30 @@ class Matcher:
         return start > self._cutoff[at]
 
     def _announce(self, agree: np.ndarray) -> list[Match]:
-        """IN_PROGRESS for each gesture with a path under way below its threshold that the classifier
-        (`agree`) does not rule out, once per attempt."""
+        """IN_PROGRESS for each gesture with a path under way below its threshold (in one of its
+        forms) that the classifier (`agree`) does not rule out, once per attempt."""
         score = np.where(self.late & self._fresh(self.start), self.cost / self.steps, np.inf)
-        best = np.minimum.reduceat(score, self._gesture_postures)
-        ratio = best / self.thresholds
-        self.announced &= ratio < 1.0  # no path below threshold any more: that attempt is over
-        new = np.flatnonzero((ratio < 1.0) & ~self.announced & (agree > CLOSE))
+        ratio = np.minimum.reduceat(score, self._form_postures) / self.thresholds
+        under, ready = self._per_gesture(ratio < 1.0), self._per_gesture((ratio < 1.0) & (agree > CLOSE))
+        self.announced &= under  # no path below threshold any more: that attempt is over
+        new = np.flatnonzero(ready & ~self.announced)
         self.announced[new] = True
-        return [Match(int(gi), float(ratio[gi]), False) for gi in new]
+        best = np.full(len(self.gestures), np.inf)
+        np.minimum.at(best, self.gesture_of_form, ratio)
+        return [Match(int(gi), float(best[gi]), False) for gi in new]
+
+    def _per_gesture(self, per_form: np.ndarray) -> np.ndarray:
+        """(gestures,) bool: true for one of the gesture's forms."""
+        out = np.zeros(len(self.gestures), bool)
+        np.logical_or.at(out, self.gesture_of_form, per_form)
+        return out
 
     def _decide(self, per: np.ndarray, looped: np.ndarray, agree: np.ndarray,
                 among_loops: np.ndarray) -> list[Match]:
-        """COMPLETE for each gesture whose templates (`per`) and classifier (`agree`) have agreed for
-        HOLD postures running, its loop (`looped`, loops.py) found at one of them at least. A looping
-        gesture whose template is close and whose loop is found at this posture needs only not to be
-        ruled out among the looping gestures and "none" (`among_loops`, see `_agree`)."""
+        """COMPLETE for each gesture one of whose forms' templates (`per`) and classifier (`agree`)
+        have agreed for HOLD postures running, its loop (`looped`, loops.py) found at one of them at
+        least. A looping form whose template is close and whose loop is found at this posture needs
+        only not to be ruled out among the looping gestures and "none" (`among_loops`, see `_agree`)."""
         ratio = per / self.thresholds
         not_ruled_out = (agree > CLOSE) | (looped & (among_loops > CLOSE))
         agreed = ((per < self.close) & not_ruled_out) | ((ratio < 1.0) & (agree > AGREE)) | \
@@ -321,12 +361,16 @@ class Matcher:
         self.running = np.where(agreed, self.running + 1, 0)
         self.looped = np.where(agreed, self.looped | looped, False)
         out = []
-        for gi in np.flatnonzero((self.running >= HOLD) & self.looped):
-            self._cutoff[self._postures_of[gi]] = self.tick - self.overlap[gi]
-            self.running[gi] = 0
-            self.looped[gi] = False
+        for fi in np.flatnonzero((self.running >= HOLD) & self.looped):
+            gi = int(self.gesture_of_form[fi])
+            if not self.running[fi]:  # another form of the same gesture completed it this posture
+                continue
+            for sibling in np.flatnonzero(self.gesture_of_form == gi):  # the same motion completes it once
+                self._cutoff[self._postures_of[sibling]] = self.tick - self.overlap[sibling]
+                self.running[sibling] = 0
+                self.looped[sibling] = False
             if not self.announced[gi]:  # not said yet (the classifier alone was sure): say so, then complete
-                out.append(Match(int(gi), float(ratio[gi]), False))
+                out.append(Match(gi, float(ratio[fi]), False))
             self.announced[gi] = False
-            out.append(Match(int(gi), float(ratio[gi]), True))
+            out.append(Match(gi, float(ratio[fi]), True))
         return out

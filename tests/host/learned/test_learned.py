@@ -194,6 +194,7 @@ def test_the_commands_learn_show_and_recognise(tmp_path, capsys):
     said = capsys.readouterr().out
     assert "roll: 6 repetitions" in said and "hands: both" in said and "threshold" in said
     assert "loops: left hand x-y" in said  # the roll is taught as a loop: a performance must loop too
+    assert "either arm alone" in said  # ... and, taught with both hands, it is matched on one arm too
     assert out.with_suffix(".png").read_bytes()[:4] == b"\x89PNG"
     assert issv(["gestures", str(probe), "--mirrored", "--learned", str(out)]) == 0
     lines = [json.loads(line) for line in capsys.readouterr().out.splitlines()]

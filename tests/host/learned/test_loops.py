@@ -23,6 +23,9 @@ def _rolling(turns: float, n: int = WINDOW) -> np.ndarray:
     return np.hstack([left, right])
 
 
+ROLLS = [_rolling(4 / 3, 25)] * 3  # taught: hands rolling round each other, once round where it completes
+
+
 def _gesture(hands: str, loop: float | None = None, motion=None, name: str = "g") -> LearnedGesture:
     """A learned gesture; with `motion`, taught by three repetitions of it."""
     reps = [TaughtRepetition("take", 0.0, 1.6, _repetition(motion)) for _ in range(3)] if motion else []
@@ -55,7 +58,7 @@ def test_an_arc_sweeps_round_as_much_as_a_loop_but_does_not_go_round():
 
 def test_a_gesture_taught_as_a_loop_asks_for_one_and_a_punch_asks_nothing():
     check = LoopCheck([_gesture("both"), _gesture("right")],
-                      [[_repetition(circle)] * 3, [_repetition(punch)] * 3])
+                      [ROLLS, [_repetition(punch)] * 3])
     assert check.taught[0, 0] > 0.45 and "left hand x-y" in check.describe(0)  # the circle, where it rolls
     assert not check.taught[1].any() and check.describe(1) == ""  # out and back the same way: no loop
     still = np.zeros((WINDOW, 6))
@@ -68,7 +71,7 @@ def test_a_gesture_taught_as_a_loop_asks_for_one_and_a_punch_asks_nothing():
 
 
 def test_one_looping_hand_is_enough_and_a_profile_may_turn_the_check_off():
-    reps = [[_repetition(circle)] * 3]
+    reps = [ROLLS]
     one_arm = _rolling(1.0)
     one_arm[:, 3:] = REST[1]  # the right hand hangs at rest
     assert LoopCheck([_gesture("both")], reps).passes(lambda g: one_arm)[0]
@@ -81,7 +84,7 @@ def test_one_looping_hand_is_enough_and_a_profile_may_turn_the_check_off():
 def test_hands_half_way_round_do_not_complete_a_loop_yet():
     """Half a turn sweeps round its centre as much as a loop does (loopiness), but has not gone round:
     a slow performer's big circle matched that far is not complete until the hands come back."""
-    check = LoopCheck([_gesture("both")], [[_repetition(circle)] * 3])
+    check = LoopCheck([_gesture("both")], [ROLLS])
     half = _rolling(0.5)
     assert loopiness(half)[0] > AS_MUCH  # what the check read before
     assert not check.passes(lambda g: half)[0]
@@ -95,7 +98,7 @@ def test_a_loop_found_at_one_of_the_postures_held_completes_and_none_found_does_
     roll = _gesture("both", motion=circle, name="roll")
     near, agree = np.array([0.1]), np.array([1.0])  # a template well below the threshold, the classifier sure
     for looped_at, completes in ((1, True), (None, False)):
-        matcher = Matcher([roll], classify=False)
+        matcher = Matcher([roll], classify=False, one_arm=False)
         assert matcher.loops.checked[0]
         done = [any(m.complete for m in matcher._decide(near, np.array([i == looped_at]), agree, agree))
                 for i in range(HOLD + 2)]
@@ -122,7 +125,7 @@ def test_a_close_roll_the_classifier_takes_for_a_beat_completes_where_its_loop_i
     once = [True] + [False] * (HOLD - 1)
     for probabilities, looped, completes in ((confused, [True] * HOLD, True), (confused, once, False),
                                              (confused, [False] * HOLD, False), (rest, [True] * HOLD, False)):
-        matcher = Matcher([roll, beat], classifier=_always(probabilities))
+        matcher = Matcher([roll, beat], classifier=_always(probabilities), one_arm=False)
         assert matcher.loops.checked.tolist() == [True, False]
         agree, among_loops = matcher._agree(REST.ravel())
         assert agree[0] < CLOSE and among_loops[1] == 0.0  # the beat is not a looping gesture
@@ -130,3 +133,56 @@ def test_a_close_roll_the_classifier_takes_for_a_beat_completes_where_its_loop_i
         done = [any(m.complete for m in matcher._decide(near, np.array([found, True]), agree, among_loops))
                 for found in looped]
         assert done == [False] * (HOLD - 1) + [completes]
+
+
+def _turned(postures: np.ndarray, degrees: float) -> np.ndarray:
+    """Each hand's path about its centre turned `degrees` about the x axis (towards lying flat, x-z)."""
+    a = np.radians(degrees)
+    out = postures.copy()
+    for hand in (slice(0, 3), slice(3, 6)):
+        p = postures[:, hand] - postures[:, hand].mean(axis=0)
+        out[:, hand.start + 1] = p[:, 1] * np.cos(a) - p[:, 2] * np.sin(a) + postures[:, hand.start + 1].mean()
+        out[:, hand.start + 2] = p[:, 1] * np.sin(a) + p[:, 2] * np.cos(a) + postures[:, hand.start + 2].mean()
+    return out
+
+
+def test_a_loop_must_face_the_way_the_taught_loops_did():
+    """Taught rolling in front (x-y, facing the camera), leaning 0 to 20 degrees towards lying flat, a
+    loop leaning within the teachers' spread about their 10 is the gesture; one leaning further
+    towards lying flat (x-z, facing up: a hand pushed out to the side and brought back lower, MSRC-12's
+    push_right) is not. The areas are unsigned: leaning either way is the same."""
+    taught = [_turned(ROLLS[0], degrees) for degrees in (0, 10, 20)]
+    check = LoopCheck([_gesture("both")], [taught])
+    ten = np.radians(10)
+    assert np.allclose(check.faces[0], [np.cos(ten), 0.0, np.sin(ten)], atol=1e-3)
+    assert np.isclose(check.tilt[0], np.cos(ten), atol=1e-3)
+    for degrees, passes in ((5, True), (15, True), (-15, True), (0, True), (40, False), (90, False)):
+        assert check.passes(lambda g: _turned(_rolling(1.0), degrees))[0] == passes, degrees
+
+
+def test_a_roll_taught_with_both_hands_is_matched_on_one_arm_as_big_as_a_taught_hand():
+    """MSRC-12's teachers wind it up with both hands; p07 rolls the right arm alone, p09 swings one arm
+    at a time in a big circle. The two-handed form's templates are far from either; a form of the
+    gesture on each arm alone, the other hanging where it began, matches them. Its loop must be at
+    least as big as a taught hand's: a smaller one-hand loop is a hand moving, not a roll."""
+    roll = _gesture("both", motion=circle, name="roll")
+    matcher = Matcher([roll], classify=False)
+    assert [f.hands for f in matcher.forms] == ["both", "left", "right"]
+    assert matcher.gesture_of_form.tolist() == [0, 0, 0]
+    left_alone = int(np.flatnonzero([f.hands == "left" for f in matcher.forms])[0])
+    assert matcher.loops.checked[left_alone] and matcher.loops.least[0] == 0.0  # two hands: no size asked
+    one_arm = _repetition(circle)
+    one_arm[:, 3:] = REST[1]  # the right hand hangs at rest
+    big = one_arm[:roll.completes_at(len(one_arm))]  # what a template matches, up to where it completes
+    small = big.copy()
+    small[:, :3] = big[:, :3].mean(axis=0) + 0.5 * (big[:, :3] - big[:, :3].mean(axis=0))
+    assert matcher.loops.passes(lambda f: big)[left_alone]
+    assert not matcher.loops.passes(lambda f: small)[left_alone]  # a quarter of the taught hand's loop
+
+    def completions(matcher: Matcher, postures: np.ndarray) -> list[tuple[int, bool]]:
+        return [(m.index, m.complete) for p in postures for m in matcher.update(p)]
+
+    three = np.concatenate([one_arm] * 3)
+    found = completions(Matcher([roll], classify=False), three)
+    assert (0, True) in found and found.count((0, False)) == found.count((0, True))  # one IN_PROGRESS each
+    assert completions(Matcher([roll], classify=False, one_arm=False), three) == []
