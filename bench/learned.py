@@ -370,7 +370,7 @@ def cost(files: list[Path], folder: Path) -> dict:
     for f in frames:
         recognizer.update(f.t, f.hands, f.body)
     per_frame = (time.process_time() - start) / len(frames) * 1000
-    return {"learned_gestures": len(gestures), "templates": int(len(recognizer.matcher.owner)),
+    return {"learned_gestures": len(gestures), "templates": int(len(recognizer.matcher.end)),
             "frames": len(frames), "ms_per_frame": per_frame, "train_six_cpu_s": train_s}
 
 
