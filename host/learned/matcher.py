@@ -124,11 +124,13 @@ SLOWER = 2  # every repetition is also a template performed this many times slow
 
 @dataclass(frozen=True)
 class Match:
-    """A learned gesture recognised: which, how well (score / threshold < 1) and its state."""
+    """A learned gesture recognised: which, how well (score / threshold < 1), its state, and in
+    which of its forms (`Matcher.forms`: as taught, or on one arm alone)."""
 
     index: int
     ratio: float
     complete: bool
+    form: int
 
 
 def motion(postures: np.ndarray) -> np.ndarray:
@@ -334,13 +336,15 @@ class Matcher:
         forms) that the classifier (`agree`) does not rule out, once per attempt."""
         score = np.where(self.late & self._fresh(self.start), self.cost / self.steps, np.inf)
         ratio = np.minimum.reduceat(score, self._form_postures) / self.thresholds
-        under, ready = self._per_gesture(ratio < 1.0), self._per_gesture((ratio < 1.0) & (agree > CLOSE))
-        self.announced &= under  # no path below threshold any more: that attempt is over
-        new = np.flatnonzero(ready & ~self.announced)
-        self.announced[new] = True
-        best = np.full(len(self.gestures), np.inf)
-        np.minimum.at(best, self.gesture_of_form, ratio)
-        return [Match(int(gi), float(best[gi]), False) for gi in new]
+        ready = (ratio < 1.0) & (agree > CLOSE)
+        self.announced &= self._per_gesture(ratio < 1.0)  # no path below threshold any more: that attempt is over
+        out = []
+        for gi in np.flatnonzero(self._per_gesture(ready) & ~self.announced):
+            forms = np.flatnonzero(ready & (self.gesture_of_form == gi))
+            fi = int(forms[np.argmin(ratio[forms])])
+            out.append(Match(int(gi), float(ratio[fi]), False, fi))
+            self.announced[gi] = True
+        return out
 
     def _per_gesture(self, per_form: np.ndarray) -> np.ndarray:
         """(gestures,) bool: true for one of the gesture's forms."""
@@ -370,7 +374,7 @@ class Matcher:
                 self.running[sibling] = 0
                 self.looped[sibling] = False
             if not self.announced[gi]:  # not said yet (the classifier alone was sure): say so, then complete
-                out.append(Match(gi, float(ratio[fi]), False))
+                out.append(Match(gi, float(ratio[fi]), False, int(fi)))
             self.announced[gi] = False
-            out.append(Match(gi, float(ratio[fi]), True))
+            out.append(Match(gi, float(ratio[fi]), True, int(fi)))
         return out

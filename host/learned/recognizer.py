@@ -46,12 +46,12 @@ class LearnedRecognizer:
         events = []
         for posture in postures:
             for match in self.matcher.update(posture.vector):
-                events.append(self._event(self.gestures[match.index], match.ratio, t, match.complete))
+                events.append(self._event(self.matcher.forms[match.form], match.ratio, t, match.complete))
         return events
 
     def _event(self, gesture: LearnedGesture, ratio: float, t: float, complete: bool) -> Gesture:
-        """IN_PROGRESS or COMPLETE at the hand(s) making it; confidence 0.5 at the threshold, 1 at a
-        perfect match."""
+        """IN_PROGRESS or COMPLETE at the hand(s) making it (a two-handed gesture rolled with one arm
+        alone: at that arm, matcher.py's `forms`); confidence 0.5 at the threshold, 1 at a perfect match."""
         used = [h for h in self._hands if gesture.hands == "both" or h.side.value == gesture.hands] or list(
             self._hands)
         position = tuple(np.mean([h.position for h in used], axis=0)) if used else (0.0, 0.0, 0.0)

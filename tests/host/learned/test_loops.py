@@ -179,10 +179,12 @@ def test_a_roll_taught_with_both_hands_is_matched_on_one_arm_as_big_as_a_taught_
     assert matcher.loops.passes(lambda f: big)[left_alone]
     assert not matcher.loops.passes(lambda f: small)[left_alone]  # a quarter of the taught hand's loop
 
-    def completions(matcher: Matcher, postures: np.ndarray) -> list[tuple[int, bool]]:
-        return [(m.index, m.complete) for p in postures for m in matcher.update(p)]
+    def completions(matcher: Matcher, postures: np.ndarray) -> list[tuple[int, bool, str]]:
+        """(gesture, complete, the hands of the form it was found in) for each match."""
+        return [(m.index, m.complete, matcher.forms[m.form].hands) for p in postures for m in matcher.update(p)]
 
     three = np.concatenate([one_arm] * 3)
     found = completions(Matcher([roll], classify=False), three)
-    assert (0, True) in found and found.count((0, False)) == found.count((0, True))  # one IN_PROGRESS each
+    assert (0, True, "left") in found  # the event is the left arm's (recognizer.py)
+    assert found.count((0, False, "left")) == found.count((0, True, "left"))  # one IN_PROGRESS each
     assert completions(Matcher([roll], classify=False, one_arm=False), three) == []
