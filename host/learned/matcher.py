@@ -340,8 +340,8 @@ class Matcher:
         self.announced &= self._per_gesture(ratio < 1.0)  # no path below threshold any more: that attempt is over
         out = []
         for gi in np.flatnonzero(self._per_gesture(ready) & ~self.announced):
-            forms = np.flatnonzero(ready & (self.gesture_of_form == gi))
-            fi = int(forms[np.argmin(ratio[forms])])
+            candidates = np.flatnonzero(ready & (self.gesture_of_form == gi))
+            fi = int(candidates[np.argmin(ratio[candidates])])
             out.append(Match(int(gi), float(ratio[fi]), False, fi))
             self.announced[gi] = True
         return out
