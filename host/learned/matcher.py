@@ -251,9 +251,10 @@ class Matcher:
             return []
         self._history.append(posture)
         per = self.step(posture)
-        possible = per < SURE_RATIO * self.thresholds  # no form further away completes (`_decide`)
-        looped = self.loops.passes(self._matched, possible)
         agree, among_loops = self._agree(posture)
+        # the loop is read only where it could make a difference: forms that agree if it is found
+        possible = self._agreed(per, np.ones(len(self.forms), bool), agree, among_loops)
+        looped = self.loops.passes(self._matched, possible)
         return self._announce(agree) + self._decide(per, looped, agree, among_loops)
 
     def _agree(self, posture: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -352,6 +353,14 @@ class Matcher:
         np.logical_or.at(out, self.gesture_of_form, per_form)
         return out
 
+    def _agreed(self, per: np.ndarray, looped: np.ndarray, agree: np.ndarray, among_loops: np.ndarray) -> np.ndarray:
+        """Per form, whether its templates (`per`) and the classifier (`agree`) agree at this posture:
+        the further the template, the surer the classifier must be (see the module doc)."""
+        ratio = per / self.thresholds
+        not_ruled_out = (agree > CLOSE) | (looped & (among_loops > CLOSE))
+        return ((per < self.close) & not_ruled_out) | ((ratio < 1.0) & (agree > AGREE)) | \
+            ((ratio < SURE_RATIO) & (agree > SURE))
+
     def _decide(self, per: np.ndarray, looped: np.ndarray, agree: np.ndarray,
                 among_loops: np.ndarray) -> list[Match]:
         """COMPLETE for each gesture one of whose forms' templates (`per`) and classifier (`agree`)
@@ -359,9 +368,7 @@ class Matcher:
         least. A looping form whose template is close and whose loop is found at this posture needs
         only not to be ruled out among the looping gestures and "none" (`among_loops`, see `_agree`)."""
         ratio = per / self.thresholds
-        not_ruled_out = (agree > CLOSE) | (looped & (among_loops > CLOSE))
-        agreed = ((per < self.close) & not_ruled_out) | ((ratio < 1.0) & (agree > AGREE)) | \
-            ((ratio < SURE_RATIO) & (agree > SURE))
+        agreed = self._agreed(per, looped, agree, among_loops)
         self.running = np.where(agreed, self.running + 1, 0)
         self.looped = np.where(agreed, self.looped | looped, False)
         out = []
