@@ -33,10 +33,10 @@ class LearnedByUser:
 
     def __init__(self, backend: Backend, gestures: list[Any]) -> None:
         self.inner = backend
-        self._gestures = gestures
         self._recognizers: dict[int, LearnedRecognizer] = {}  # private names: the rest is the backend's
         self._frame = _Given()
-        self._anyone = LearnedBackend(self._frame, LearnedRecognizer(gestures))  # frames without users
+        self._first = LearnedRecognizer(gestures)  # built once: each user's is a fresh copy
+        self._anyone = LearnedBackend(self._frame, self._first)  # frames without users
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self.inner, name)
@@ -58,8 +58,7 @@ class LearnedByUser:
         mirrored = frame.depth.mirrored if frame.depth is not None else True
         recognizer = self._recognizers.get(user.id)
         if recognizer is None:
-            recognizer = self._recognizers[user.id] = LearnedRecognizer(  # the set's classifier: cache.py
-                self._gestures, mirrored)
+            recognizer = self._recognizers[user.id] = self._first.fresh(mirrored)
         t = frame.timestamp if frame.depth is not None else frame.capture_time
         hands = [h for h in frame.hands if h.user_id == user.id]
         return [dataclasses.replace(g, user_id=user.id) for g in recognizer.update(t, hands, body_of(user))]

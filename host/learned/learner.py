@@ -104,7 +104,9 @@ def hands_used(reps: list[TaughtRepetition]) -> tuple[str, np.ndarray]:
     for hand in (slice(0, 3), slice(3, 6)):
         spread.append(float(np.median([np.linalg.norm(np.ptp(r.postures[:, hand], axis=0)) for r in reps])))
     left, right = spread
-    hands = "both" if min(left, right) >= BOTH_HANDS * max(left, right) else "left" if left > right else "right"
+    if min(left, right) >= BOTH_HANDS * max(left, right):
+        return "both", hand_weights("both")
+    hands = "left" if left > right else "right"
     return hands, hand_weights(hands)
 
 

@@ -50,6 +50,7 @@ Gestures whose repetitions do not loop (a punch, a beat, goggles) are not checke
 """
 from __future__ import annotations
 
+import copy
 from typing import Callable, Sequence
 
 import numpy as np
@@ -120,9 +121,9 @@ class LoopCheck:
     big it must be (`least`)."""
 
     def __init__(self, gestures: Sequence[LearnedGesture], taught: list[list[np.ndarray]],
-                 one_arm: Sequence[bool] = ()) -> None:
-        """taught[g]: gesture g's repetitions at RATE_HZ (matcher.taught_repetitions); one_arm[g]:
-        gesture g is a two-handed one performed with one arm (`LearnedGesture.with_one_arm`)."""
+                 one_arm: bool = False) -> None:
+        """taught[g]: gesture g's repetitions at RATE_HZ (matcher.taught_repetitions); `one_arm`:
+        the gestures are two-handed ones performed with one arm (`LearnedGesture.with_one_arm`)."""
         self.taught = np.zeros((len(gestures), 6))
         self.faces = np.zeros((len(gestures), 3))
         self.tilt = np.full(len(gestures), -1.0)
@@ -138,25 +139,33 @@ class LoopCheck:
                 sizes, faces = _size_and_facing(np.array([swept(p)[hands] for p in prefixes]).reshape(-1, 3))
                 self.faces[g] = _size_and_facing(np.median(faces, axis=0))[1]
                 self.tilt[g] = np.percentile(faces @ self.faces[g], TILT_PERCENT)
-                if g < len(one_arm) and one_arm[g]:
+                if one_arm:
                     self.least[g] = float(np.median(sizes))
         self.need = np.array([AS_MUCH if g.loop is None else g.loop for g in gestures])
         self.checked = (self.taught > 0).any(axis=1) & (self.need > 0)
 
+    def joined(self, other: "LoopCheck") -> "LoopCheck":
+        """One check of this one's gestures, then `other`'s (every attribute is per gesture)."""
+        out = copy.copy(self)
+        for name, rows in vars(self).items():
+            setattr(out, name, np.concatenate([rows, getattr(other, name)]))
+        return out
+
     def passes(self, matched: Callable[[int], np.ndarray], among: np.ndarray | None = None) -> np.ndarray:
         """(gestures,) bool: not a looping gesture, or the motion `matched(g)` (postures (n, 6)) that
-        gesture g's best template has matched has gone round a loop where its teachers' did. Read only
-        for the gestures `among` ((gestures,) bool; all by default): the matcher asks for those whose
-        templates are close enough to complete, so the loop is not measured at every posture for every
-        gesture."""
+        gesture g's best template has matched has gone round a loop where its teachers' did, facing
+        their way (and, on one arm, as big as a taught hand's). Read only for the gestures `among`
+        ((gestures,) bool; all by default): the matcher asks for those that would agree were the loop
+        found, so the loop is not measured at every posture for every gesture."""
         out = ~self.checked
         for g in np.flatnonzero(self.checked if among is None else self.checked & among):
             motion = matched(g)
             if len(motion) >= MIN_SEEN:
                 gone_round = ((self.taught[g] > 0) & (closed_loopiness(motion) >= self.need[g])).reshape(2, 3)
-                size, faces = _size_and_facing(swept(motion))
-                out[g] = bool(np.any(gone_round.any(axis=1) & (faces @ self.faces[g] >= self.tilt[g])
-                                     & (size >= self.least[g])))
+                if gone_round.any():  # then which way it faces and how big it is
+                    size, faces = _size_and_facing(swept(motion))
+                    out[g] = bool(np.any(gone_round.any(axis=1) & (faces @ self.faces[g] >= self.tilt[g])
+                                         & (size >= self.least[g])))
         return out
 
     def describe(self, g: int) -> str:

@@ -97,6 +97,7 @@ completed again within its window (recall 0.55 -> 0.73 on p04-p10).
 """
 from __future__ import annotations
 
+import copy
 from collections import deque
 from dataclasses import dataclass
 from itertools import islice
@@ -157,18 +158,15 @@ def counter_examples(gestures: list[LearnedGesture]) -> list[list[np.ndarray]]:
     return [[resampled(u.postures, g.rate_hz) for u in g.unlike] for g in gestures]
 
 
-def forms(gestures: list[LearnedGesture],
-          taught: list[list[np.ndarray]] | None) -> tuple[list[LearnedGesture], np.ndarray]:
-    """What is matched: each gesture as taught and, given its repetitions `taught` (at RATE_HZ), each
-    looping gesture taught with both hands performed with either arm alone (`with_one_arm`); and the
-    gesture each form is of. Such a form completes only on a loop as big as a taught hand's
-    (loops.py)."""
+def forms(gestures: list[LearnedGesture], looping: np.ndarray) -> tuple[list[LearnedGesture], np.ndarray]:
+    """What is matched: each gesture as taught and each of the `looping` ones ((gestures,) bool)
+    taught with both hands performed with either arm alone (`with_one_arm`); and the gesture each
+    form is of. Such a form completes only on a loop as big as a taught hand's (loops.py)."""
     out, of = list(gestures), list(range(len(gestures)))
-    if taught is not None:
-        for gi in np.flatnonzero(LoopCheck(gestures, taught).checked):
-            if gestures[gi].hands == "both":
-                out += [gestures[gi].with_one_arm(side) for side in ("left", "right")]
-                of += [gi, gi]
+    for gi in np.flatnonzero(looping):
+        if gestures[gi].hands == "both":
+            out += [gestures[gi].with_one_arm(side) for side in ("left", "right")]
+            of += [gi, gi]
     return out, np.array(of, int)
 
 
@@ -182,8 +180,11 @@ class Matcher:
         `one_arm=False`: no looping gesture taught with both hands is matched on one arm (`forms`)."""
         self.gestures = gestures
         taught = taught_repetitions(gestures)
-        self.forms, self.gesture_of_form = forms(gestures, taught if one_arm else None)
-        forms_taught = taught + taught_repetitions(self.forms[len(gestures):])
+        loops = LoopCheck(gestures, taught)
+        self.forms, self.gesture_of_form = forms(gestures, loops.checked & one_arm)
+        one_armed = self.forms[len(gestures):]
+        forms_taught = taught + taught_repetitions(one_armed)
+        self.loops = loops.joined(LoopCheck(one_armed, forms_taught[len(gestures):], one_arm=True))
         thresholds = np.array(thresholds if thresholds is not None else [g.threshold for g in gestures], float)
         self.thresholds = thresholds[self.gesture_of_form]
         # a threshold loosened in a profile does not loosen "close": look-alikes still need the classifier
@@ -218,21 +219,33 @@ class Matcher:
         self.weights = np.array([np.tile(f.weights, 2) for f in self.forms], np.float32).reshape(-1, 12)[owner[of]]
         self.band = 2.0 * (place + 1)  # at most twice as slow as the template
         self.overlap = np.array([FRESH * t for t in typical])  # ticks, per form
-        self.cost = np.full(len(place), np.inf, np.float32)  # accumulated distance of the best path ending here
-        self.steps = np.ones(len(place), np.float32)  # its weight (template postures covered, stays included)
-        self.start = np.zeros(len(place), np.int64)  # the tick at which that path began
+        self.classifier = classifier or (trained(taught, counter_examples(gestures)) if classify and gestures else None)
+        self._span = 2 * int(lengths.max(initial=1)) + 1  # postures a path may span
+        self._begin()
+
+    def _begin(self) -> None:
+        """No posture seen yet: what one stream (one performer) has matched so far."""
+        self.cost = np.full(len(self.templates), np.inf, np.float32)  # distance summed along the best path ending here
+        self.steps = np.ones(len(self.templates), np.float32)  # its weight (template postures covered, stays included)
+        self.start = np.zeros(len(self.templates), np.int64)  # the tick at which that path began
         self._recent: list[np.ndarray] = []  # the last two postures: where the hands are heading
         self.tick = 0  # postures seen
-        self._cutoff = np.full(len(place), -1e9)  # per posture: a fresh path began after this tick
-        self.announced = np.zeros(len(gestures), bool)  # IN_PROGRESS said for the current attempt
-        self.classifier = classifier or (trained(taught, counter_examples(gestures)) if classify and gestures else None)
-        self.loops = LoopCheck(self.forms, forms_taught, [fi >= len(gestures) for fi in range(len(self.forms))])
-        self._history: deque[np.ndarray] = deque(maxlen=2 * int(lengths.max(initial=1)) + 1)  # postures a path may span
-        self._score = np.full(len(lengths), np.inf)  # each template's score at its `fires_at` point, this posture
+        self._cutoff = np.full(len(self.templates), -1e9)  # per posture: a fresh path began after this tick
+        self.announced = np.zeros(len(self.gestures), bool)  # IN_PROGRESS said for the current attempt
+        self._history: deque[np.ndarray] = deque(maxlen=self._span)
+        self._score = np.full(len(self.end), np.inf)  # each template's score at its `fires_at` point, this posture
         self.describer = Describer()
         self.slow_describer = Describer(pace=SLOWER)
         self.running = np.zeros(len(self.forms))  # postures templates and classifier have agreed
         self.looped = np.zeros(len(self.forms), bool)  # ... and the loop check passed at one of them
+
+    def fresh(self) -> "Matcher":
+        """A matcher of the same gestures for another stream (another performer), with nothing seen:
+        the templates, classifier and loop check are shared, not built again (that takes a few
+        hundred milliseconds, a stall in the show when a performer walks in)."""
+        other = copy.copy(self)
+        other._begin()
+        return other
 
     def reset(self) -> None:
         """The stream broke (a hand gone): no path continues across the gap."""

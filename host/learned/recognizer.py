@@ -7,6 +7,7 @@ Events are GestureType.LEARNED with the gesture's name as `label`: `"name": NAME
 """
 from __future__ import annotations
 
+import copy
 from pathlib import Path
 from typing import Mapping, Sequence
 
@@ -25,11 +26,18 @@ class LearnedRecognizer:
     def __init__(self, gestures: list[LearnedGesture], mirrored: bool = True,
                  thresholds: Mapping[str, float] | None = None, classifier: Classifier | None = None) -> None:
         overrides = thresholds or {}
-        self.gestures = gestures
         self.matcher = Matcher(gestures, [overrides.get(g.name, g.threshold) for g in gestures],
                                classifier=classifier)
         self.stream = PostureStream(mirrored)
         self._hands: tuple[Hand, ...] = ()
+
+    def fresh(self, mirrored: bool = True) -> "LearnedRecognizer":
+        """A recogniser of the same gestures for another performer, ready at once (`Matcher.fresh`)."""
+        other = copy.copy(self)
+        other.matcher = self.matcher.fresh()
+        other.stream = PostureStream(mirrored)
+        other._hands = ()
+        return other
 
     @classmethod
     def from_files(cls, paths: Sequence[Path | str], mirrored: bool = True,

@@ -88,3 +88,27 @@ def test_a_live_backends_nothing_yet_passes_through_to_the_frame_loop():
     backend = LearnedByUser(QuietBackend(1, first=1), [])
     answers = [backend.update() for _ in range(3)]
     assert answers[0] is False and isinstance(answers[1], Frame) and answers[2] is False
+
+
+def test_a_users_recogniser_is_a_fresh_copy_of_the_first(punch_file):
+    """Building a recogniser (templates, loop check) takes a few hundred milliseconds: a performer who
+    walks in gets a copy of the first that shares them, with nothing seen, and recognises as a
+    recogniser built anew would, whatever the first has seen."""
+    alone = Performer(seed=3).frames(punch, 2)[0]
+
+    def events(recognizer: LearnedRecognizer) -> list[tuple[str, GestureState, float]]:
+        out = []
+        for t, points in alone:
+            hands = [Hand(1, HandState.TRACKING, tuple(points["left"]), Side.LEFT),
+                     Hand(2, HandState.TRACKING, tuple(points["right"]), Side.RIGHT)]
+            body = {"torso": tuple(points["torso"]), "head": tuple(points["head"])}
+            out += [(g.name, g.state, round(g.timestamp, 3)) for g in recognizer.update(t, hands, body)]
+        return out
+
+    first = LearnedRecognizer.from_files([punch_file])
+    anew = events(LearnedRecognizer.from_files([punch_file]))
+    assert [e[:2] for e in anew].count(("punch", GestureState.COMPLETE)) == 2
+    assert events(first) == anew  # the first has seen the performance
+    copy = first.fresh()
+    assert copy.matcher.templates is first.matcher.templates and copy.matcher.classifier is first.matcher.classifier
+    assert events(copy) == anew
