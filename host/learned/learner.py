@@ -200,9 +200,11 @@ def examples_left_out(gesture: LearnedGesture) -> list[str]:
 
 
 def far_off(gesture: LearnedGesture) -> list[TaughtRepetition]:
-    """The repetitions unlike the others (score above OUTLIER times the median score)."""
+    """The repetitions unlike the others: scoring above OUTLIER times the median score, and above
+    THRESHOLD_FLOOR (closer than sensor noise is not far, however alike the others are: a looped
+    recording taught live repeats itself to the sample)."""
     scores = [r.score for r in gesture.repetitions if r.score is not None]
     if len(scores) < 3:
         return []
-    limit = OUTLIER * float(np.median(scores))
+    limit = max(OUTLIER * float(np.median(scores)), THRESHOLD_FLOOR)
     return [r for r in gesture.repetitions if r.score is not None and r.score > limit]

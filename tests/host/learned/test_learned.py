@@ -12,7 +12,9 @@ from host.commands.gestures import read_trajectories
 from host.errors import UserError
 from host.learned import gesture_file, matcher
 from host.learned.examples import parse_example, read_take
-from host.learned.learner import THRESHOLD_CEILING, consistent_threshold, held_by_ceiling, learn, taught_before
+from host.learned.gesture_file import LearnedGesture, TaughtRepetition
+from host.learned.learner import (THRESHOLD_CEILING, consistent_threshold, far_off, held_by_ceiling, learn,
+                                  taught_before)
 from host.learned.recognizer import LearnedRecognizer
 from host.learned.segment import find_repetitions
 from tests.host.learned.performer import (REST, Performer, circle, punch, raise_hand, right_hand_through, still,
@@ -380,3 +382,14 @@ def test_repetitions_far_apart_are_held_to_the_ceiling_and_said_to_be(tmp_path, 
     loose = held_by_ceiling(gesture)
     assert loose is not None and loose > gesture.threshold == THRESHOLD_CEILING
     assert f"threshold held at {THRESHOLD_CEILING:.3f}" in capsys.readouterr().out
+
+
+def test_a_repetition_is_far_from_the_others_only_beyond_sensor_noise():
+    """Twice the median distance names a wrong take; among repetitions alike to the sample (a looped
+    recording taught live) twice almost nothing is still nothing."""
+    def gesture(scores: list[float]) -> LearnedGesture:
+        reps = [TaughtRepetition("take", float(i), i + 1.0, np.zeros((20, 6)), s) for i, s in enumerate(scores)]
+        return LearnedGesture("g", "right", 0.5, 0.75, np.ones(6), reps)
+
+    assert [r.start for r in far_off(gesture([0.2, 0.25, 0.22, 0.9]))] == [3.0]
+    assert far_off(gesture([0.0001, 0.0, 0.0, 0.0004])) == []
