@@ -39,10 +39,13 @@ The loop must also face the way the taught loops did: a hand's areas swept in th
 teachers' median way as all but TILT_PERCENT of the teachers' own. A hand pushed out to the side and
 brought back lower draws a loop lying flat: MSRC-12's push_right, never a roll (the teachers' rolls
 face the camera, leaning towards the side). On p04-p10 false fires 0.0825 -> 0.0804, leaving one
-teacher out 0.0697 -> 0.0665, recall unchanged in both. Two teachers alike give a tighter way
-(24-36 degrees) than all three (47): a floor of 45 degrees gave more false fires leaving one
-teacher out (0.067 -> 0.076) and no more recall, so there is none. The areas are unsigned: a loop
-leaning left or right faces the same way.
+teacher out 0.0697 -> 0.0665, recall unchanged in both. But it may face 45 degrees away at least
+(TILT_LEAST): a few teachers say little of how everyone else holds a loop, and depth tracking tilts
+it. UTD-MHAD's draw_circle_ccw taught from subjects 1 and 2's eight clips through the open engine
+gave 11 degrees, and subjects 3 and 4's circles were found in 3 of 8 clips instead of 6; with the
+floor, in 6. Leaving one of MSRC-12's teachers out (two teachers, 24-36 degrees) the floor raises
+false fires 0.067 -> 0.076 with the same recall; on p04-p10 it changes nothing. The areas are
+unsigned: a loop leaning left or right faces the same way.
 
 A gesture taught with both hands performed with one arm (matcher.py, `forms`) must go round a
 loop at least as big (`least`: the length of the areas) as the median taught hand's.
@@ -62,7 +65,8 @@ WINDOW = 20  # postures (1.3 s at 15 Hz) of a taught repetition, up to where it 
 LOOPS = 0.45  # a (hand, plane) where the median taught repetition loops at least this much is a loop
 AS_MUCH = 0.3  # ... in which a performance must loop at least this much (a profile may override it)
 MIN_SEEN = 6  # postures: a shorter match is too little of the motion to tell a loop
-TILT_PERCENT = 5  # a performance's loop may face as far from the taught loops' way as all but this percent of theirs
+TILT_PERCENT = 5  # a performance's loop may face as far from the taught loops' way as all but this percent of theirs,
+TILT_LEAST = float(np.cos(np.radians(45.0)))  # ... and 45 degrees at least: few teachers say little of everyone
 _SMALL = 0.02  # body units squared: a hand still along one axis encloses nothing, not 0/0
 
 
@@ -138,7 +142,7 @@ class LoopCheck:
                 self.taught[g, loops] = median[loops]
                 sizes, faces = _size_and_facing(np.array([swept(p)[hands] for p in prefixes]).reshape(-1, 3))
                 self.faces[g] = _size_and_facing(np.median(faces, axis=0))[1]
-                self.tilt[g] = np.percentile(faces @ self.faces[g], TILT_PERCENT)
+                self.tilt[g] = min(TILT_LEAST, np.percentile(faces @ self.faces[g], TILT_PERCENT))
                 if one_arm:
                     self.least[g] = float(np.median(sizes))
         self.need = np.array([AS_MUCH if g.loop is None else g.loop for g in gestures])

@@ -77,7 +77,8 @@ wind_it_up was found in 0.96 of p04-p10's instances but fired in windows of othe
 (0.175 without the loop's size and facing), above the target. On p04-p10 (taught by p01-p03), with
 the loop's facing (loops.py): wind_it_up 0.747 -> 0.815 (p09 5 -> 14 of 20, p07 38 -> 39 of 55: its
 right arm rolled alone is read as rest by the classifier), mean 0.899 -> 0.911, false fires 0.0825
--> 0.0859; leaving one teacher out, 0.697 / 0.070 -> 0.694 / 0.067 (wind_it_up 0.633 -> 0.612).
+-> 0.0859; leaving one teacher out, 0.697 / 0.070 -> 0.694 / 0.076 (wind_it_up 0.633 -> 0.612; the
+facing's 45-degree floor, loops.py, adds the false fires).
 
 A gesture is IN_PROGRESS (said once per attempt) when a path has come UNDER_WAY of the way to its
 `fires_at` point with a score below the threshold and the classifier does not rule it out (above
