@@ -17,6 +17,7 @@ from host.learned.learner import Take, repetitions
 
 COUNT_IN_S = 2.0  # standing at rest before each repetition (also the rest the learner needs)
 MAX_TRIES = 3  # takes without a repetition in a row before giving up
+BAR_WIDTH = 20
 
 
 def _frames(backend: Backend, seconds: float, tick: Callable[[float], None], mirrored: list[bool]) -> list:
@@ -36,8 +37,17 @@ def _frames(backend: Backend, seconds: float, tick: Callable[[float], None], mir
 
 
 def _bar(out: TextIO, label: str) -> Callable[[float], None]:
+    """A bar redrawn at a terminal as it fills (not once a frame); elsewhere (a log, a pipe) the
+    label once, as `\r` redraws would fill a log with 30 lines a second."""
+    shown = [-1]
+    live = out.isatty()
+
     def tick(share: float) -> None:
-        out.write(f"\r{label} [{'#' * int(share * 20):<20}]")
+        filled = int(share * BAR_WIDTH)
+        if filled == shown[0] or (shown[0] >= 0 and not live):
+            return
+        shown[0] = filled
+        out.write(f"\r{label} [{'#' * filled:<{BAR_WIDTH}}]" if live else label)
         out.flush()
     return tick
 

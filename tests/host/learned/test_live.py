@@ -3,7 +3,7 @@ its truth hands as the backend; the command counts in, takes each repetition and
 from __future__ import annotations
 
 from host.cli import main as issv
-from host.learned import gesture_file
+from host.learned import gesture_file, live
 
 
 def _step(action: str, duration: float, hand: str | None = None) -> str:
@@ -52,3 +52,20 @@ def test_a_recording_is_an_example_too(tmp_path, capsys):
     assert issv(["learn", "up", f"{recording}@0-20", "-o", str(out)]) == 0
     assert f"{recording}@0-20: 2 repetitions found" in capsys.readouterr().out
     assert gesture_file.load(out).hands == "right"
+
+
+def test_the_bars_are_redrawn_as_they_fill_at_a_terminal_and_said_once_elsewhere(tmp_path, capsys, monkeypatch):
+    """A log of `issv learn --profile` holds one line a bar, not one redraw a frame; a terminal sees
+    each bar redrawn at most once a step of its width."""
+    (tmp_path / "steps.toml").write_text(CHOREOGRAPHY)
+    (tmp_path / "teach.toml").write_text(PROFILE)
+    args = ["learn", "up", "--profile", str(tmp_path / "teach.toml"), "--repetitions", "2",
+            "-o", str(tmp_path / "up.gesture.json")]
+    assert issv(args) == 0
+    logged = capsys.readouterr().out
+    assert "\r" not in logged and logged.count("repetition 1/2: go!") == 1
+
+    monkeypatch.setattr("sys.stdout.isatty", lambda: True)
+    assert issv(args) == 0
+    redrawn = capsys.readouterr().out.count("\rrepetition 1/2: go!")
+    assert 2 <= redrawn <= live.BAR_WIDTH + 1
