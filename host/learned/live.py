@@ -39,14 +39,15 @@ def _frames(backend: Backend, seconds: float, tick: Callable[[float], None], mir
 def _bar(out: TextIO, label: str) -> Callable[[float], None]:
     """A bar redrawn at a terminal as it fills (not once a frame); elsewhere (a log, a pipe) the
     label once, as `\r` redraws would fill a log with 30 lines a second."""
-    shown = [-1]
+    shown = -1
     live = out.isatty()
 
     def tick(share: float) -> None:
+        nonlocal shown
         filled = int(share * BAR_WIDTH)
-        if filled == shown[0] or (shown[0] >= 0 and not live):
+        if filled == shown or (shown >= 0 and not live):
             return
-        shown[0] = filled
+        shown = filled
         out.write(f"\r{label} [{'#' * filled:<{BAR_WIDTH}}]" if live else label)
         out.flush()
     return tick

@@ -41,11 +41,9 @@ brought back lower draws a loop lying flat: MSRC-12's push_right, never a roll (
 face the camera, leaning towards the side). On p04-p10 false fires 0.0825 -> 0.0804, leaving one
 teacher out 0.0697 -> 0.0665, recall unchanged in both. But it may face 45 degrees away at least
 (TILT_LEAST): a few teachers say little of how everyone else holds a loop, and depth tracking tilts
-it. UTD-MHAD's draw_circle_ccw taught from subjects 1 and 2's eight clips through the open engine
-gave 11 degrees, and subjects 3 and 4's circles were found in 3 of 8 clips instead of 6; with the
-floor, in 6. Leaving one of MSRC-12's teachers out (two teachers, 24-36 degrees) the floor raises
-false fires 0.067 -> 0.076 with the same recall; on p04-p10 it changes nothing. The areas are
-unsigned: a loop leaning left or right faces the same way.
+it (UTD-MHAD circles taught from two subjects; the figures are in docs/learned-gestures.md, "The loop
+must face the way the teachers' loops did"). The areas are unsigned: a loop leaning left or right
+faces the same way.
 
 A gesture taught with both hands performed with one arm (matcher.py, `forms`) must go round a
 loop at least as big (`least`: the length of the areas) as the median taught hand's.

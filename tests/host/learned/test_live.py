@@ -23,12 +23,17 @@ name = "truth"
 """
 
 
-def test_live_teaching_takes_the_repetitions_from_the_profile_and_teaches_a_file_more(tmp_path, capsys):
+def _teach_twice(tmp_path) -> list[str]:
+    """`issv learn up` taking two repetitions live from the synthetic profile (written to tmp_path)."""
     (tmp_path / "steps.toml").write_text(CHOREOGRAPHY)
     (tmp_path / "teach.toml").write_text(PROFILE)
+    return ["learn", "up", "--profile", str(tmp_path / "teach.toml"), "--repetitions", "2",
+            "-o", str(tmp_path / "up.gesture.json")]
+
+
+def test_live_teaching_takes_the_repetitions_from_the_profile_and_teaches_a_file_more(tmp_path, capsys):
     out = tmp_path / "up.gesture.json"
-    assert issv(["learn", "up", "--profile", str(tmp_path / "teach.toml"), "--repetitions", "2",
-                 "-o", str(out)]) == 0
+    assert issv(_teach_twice(tmp_path)) == 0
     said = capsys.readouterr().out
     assert "repetition 1/2: stand still" in said and "repetition 2/2: go!" in said
     learned = gesture_file.load(out)
@@ -57,10 +62,7 @@ def test_a_recording_is_an_example_too(tmp_path, capsys):
 def test_the_bars_are_redrawn_as_they_fill_at_a_terminal_and_said_once_elsewhere(tmp_path, capsys, monkeypatch):
     """A log of `issv learn --profile` holds one line a bar, not one redraw a frame; a terminal sees
     each bar redrawn at most once a step of its width."""
-    (tmp_path / "steps.toml").write_text(CHOREOGRAPHY)
-    (tmp_path / "teach.toml").write_text(PROFILE)
-    args = ["learn", "up", "--profile", str(tmp_path / "teach.toml"), "--repetitions", "2",
-            "-o", str(tmp_path / "up.gesture.json")]
+    args = _teach_twice(tmp_path)
     assert issv(args) == 0
     logged = capsys.readouterr().out
     assert "\r" not in logged and logged.count("repetition 1/2: go!") == 1
