@@ -91,6 +91,11 @@ def _extend(chain: list[Stroke], stroke: Stroke, counts: bool, max_gap_s: float)
         chain.clear()
 
 
+def _merged(before: Stroke, jitter: Stroke, after: Stroke) -> Stroke:
+    """One stroke of `before` and `after`, the same way, and the tracker's `jitter` between them."""
+    return Stroke(before.axis, before.direction, before.samples + jitter.samples[1:] + after.samples[1:])
+
+
 def _during(track: _HandTrack, stroke: Stroke) -> list[Sample]:
     """Another hand's samples while `stroke` was under way."""
     return [q for q in track.samples if stroke.start.t <= q.t <= stroke.end.t]
@@ -157,7 +162,7 @@ class _HandTrack:
         if (jitter.travel >= self.rules.oscillation_min_travel_mm and stroke.direction * float(
                 stroke.end.p[axis] - before.end.p[axis]) < self.rules.stroke_hysteresis_mm):
             return [jitter, stroke]
-        merged = Stroke(axis, stroke.direction, before.samples + jitter.samples[1:] + stroke.samples[1:])
+        merged = _merged(before, jitter, stroke)
         for run in (self.chains[axis], self.waving):
             if run and run[-1] is before:
                 run.pop()
@@ -536,10 +541,13 @@ class _Hand:
         pending = self.tr.pending.pop(stroke.axis, None)
         # a comparable stroke the other way after a pending swipe: of the two the stronger is the swipe,
         # the other its wind-up or its return; but a return that turns straight into yet another stroke
-        # makes a back-and-forth (a wave's first swings), and neither is. Otherwise the first is confirmed now.
+        # makes a back-and-forth (a wave's first swings), and neither is. Otherwise the first is confirmed now,
+        # unless a tracker's glitch cut the stroke back short: it waits to see that stroke go on (`cut_short`).
         follows = pending is not None and self.comparable(stroke, pending)
         stronger = follows and self.strength(stroke) > self.strength(pending)
-        if pending is not None and (not follows or not (stronger or reversed_)) and not self.wound_up(pending, stroke):
+        if pending is not None and not follows and reversed_ and self.glitched_back(pending, stroke):
+            self.tr.pending[stroke.axis] = pending
+        elif pending is not None and (not follows or not (stronger or reversed_)) and not self.wound_up(pending, stroke):
             self.confirm(pending)
         place = len(chain) if chain and chain[-1] is stroke else 1
         # the third of quick alternating strokes at a wave's height is a wave's; a slower or lower sweep is not
@@ -572,8 +580,28 @@ class _Hand:
             # a fast stroke the other way, or one the hand turned straight into, is under way: wait for it
             # (after a rise across the body, any stroke back: the rise may have wound up a swipe back)
             return
+        if self.cut_short(pending, current):
+            return
         del self.tr.pending[axis]
         self.confirm(pending)
+
+    def glitched_back(self, pending: Stroke, back: Stroke) -> bool:
+        """Was `back`, the stroke the hand turned straight into from `pending`, cut short at a swipe's speed
+        (`swipe_min_peak_speed_mm_s`)? A hand decelerates before it turns; a tracker's glitch does not
+        wait for that (MSRC-12 p03's skeleton hand jumped back for one frame in a 6 m/s push)."""
+        return (back.direction == -pending.direction and back.start.t <= pending.end.t
+                and back.direction * float(back.end.v[back.axis]) >= self.r.swipe_min_peak_speed_mm_s)
+
+    def cut_short(self, pending: Stroke, current: Stroke | None) -> bool:
+        """May the stroke back from `pending`, glitched (`glitched_back`), yet go on and prove the stronger
+        (`joined`)? While the hand turned from it no longer than `stroke_min_reversal_s` ago, or goes on
+        its way again after such a reversal, the two together so far like a swipe."""
+        last, jitter = self.tr.last.get(pending.axis), self.tr.jitter.get(pending.axis)
+        if current is None or last is None or not self.glitched_back(pending, last):
+            return False
+        if current.direction == pending.direction:
+            return current.duration <= self.r.stroke_min_reversal_s
+        return jitter is not None and self.swipe_like(_merged(last, jitter, current))
 
     def above_chin(self, s: Sample) -> bool:
         """Is the hand higher than a swipe across the body ends (`swipe_across_max_above_shoulder_mm`), or at

@@ -190,6 +190,20 @@ def test_a_swipe_with_a_tracker_glitch_is_still_one_swipe():
     assert completed(perform(c.jittered(swipe, Side.RIGHT, middle, jump=(120.0, 0.0, 0.0)))) == ["swipe_left"]
 
 
+@pytest.mark.parametrize(("push_s", "into_push_s", "jump_mm"), [(0.4, 0.11, 150.0), (0.4, 0.13, 150.0),
+                                                           (0.4, 0.13, 300.0), (0.5, 0.15, 150.0)])
+def test_a_glitch_in_a_push_does_not_make_its_wind_up_the_swipe(push_s, into_push_s, jump_mm):
+    """MSRC-12's push right, swung 450 mm across the body first (a swipe left on its own), the hand
+    reported `jump_mm` back for one frame as the push gathers speed: the push's first stretch ends there
+    at more than a swipe's speed, too short to compare with the wind-up. It goes on past the glitch and
+    is the swipe; the wind-up is not. (A glitch before the push is that fast is not told from a turn.)"""
+    windup_s, held_until = 0.3, 0.3 + 0.6 + 0.4
+    wound = c.push_out(windup=450.0, duration=push_s)
+    glitched = c.jittered(wound, Side.RIGHT, held_until + windup_s + into_push_s, jump=(-jump_mm, 0.0, 0.0))
+    assert completed(perform(wound)) == ["swipe_right"]
+    assert completed(perform(glitched)) == ["swipe_right"]
+
+
 def test_a_waves_swing_seen_in_two_frames_is_a_swing_not_a_glitch():
     """A reversal of two frames followed by a stroke that only comes back to where the hand turned is
     a quick swing, not a tracker's glitch (after which the hand carries on its way): a taller
