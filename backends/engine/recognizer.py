@@ -587,8 +587,9 @@ class _Hand:
 
     def glitched_back(self, pending: Stroke, back: Stroke) -> bool:
         """Was `back`, the stroke the hand turned straight into from `pending`, cut short at a swipe's speed
-        (`swipe_min_peak_speed_mm_s`)? A hand decelerates before it turns; a tracker's glitch does not
-        wait for that (MSRC-12 p03's skeleton hand jumped back for one frame in a 6 m/s push)."""
+        (`swipe_min_peak_speed_mm_s`)? A hand slows before it turns, a tracker's glitch does not (MSRC-12
+        p03's skeleton hand jumped back for one frame in a 6 m/s push). Speeds lag over the speed window,
+        so a quick real turn may pass too: waiting for it costs at most `stroke_min_reversal_s`."""
         return (back.direction == -pending.direction and back.start.t <= pending.end.t
                 and back.direction * float(back.end.v[back.axis]) >= self.r.swipe_min_peak_speed_mm_s)
 
