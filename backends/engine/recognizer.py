@@ -542,17 +542,19 @@ class _Hand:
         # a comparable stroke the other way after a pending swipe: of the two the stronger is the swipe,
         # the other its wind-up or its return; but a return that turns straight into yet another stroke
         # makes a back-and-forth (a wave's first swings), and neither is. Otherwise the first is confirmed now,
-        # unless a tracker's glitch cut the stroke back short: it waits to see that stroke go on (`cut_short`).
+        # unless a tracker's glitch cut the stroke back short: it waits to see that stroke go on (`cut_short`),
+        # the stroke itself no swipe meanwhile (a turn after all leaves it a short stroke back, a return).
         follows = pending is not None and self.comparable(stroke, pending)
         stronger = follows and self.strength(stroke) > self.strength(pending)
-        if pending is not None and not follows and reversed_ and self.glitched_back(pending, stroke):
+        held = pending is not None and not follows and reversed_ and self.glitched_back(pending, stroke)
+        if held:
             self.tr.pending[stroke.axis] = pending
         elif pending is not None and (not follows or not (stronger or reversed_)) and not self.wound_up(pending, stroke):
             self.confirm(pending)
         place = len(chain) if chain and chain[-1] is stroke else 1
         # the third of quick alternating strokes at a wave's height is a wave's; a slower or lower sweep is not
         waving = place > 2 and self.wave_paced(stroke)
-        if not waving and self.is_swipe(stroke) and (not follows or stronger):
+        if not held and not waving and self.is_swipe(stroke) and (not follows or stronger):
             self.tr.pending[stroke.axis] = stroke
             self.announce(self.swipe_name(stroke), stroke.start.t, self.swipe_confidence(stroke), stroke.end)
         if stroke.axis == X:
