@@ -241,17 +241,29 @@ def sweeps(times: int = 4, travel: float = 600.0, seconds: float = 0.7) -> Perfo
 
 
 def wave(swings: int = 6, amplitude: float = 240.0, half_period: float | tuple[float, ...] = 0.2,
-         height: float = 450.0, rise_s: float = 0.6) -> Performance:
+         height: float = 450.0, rise_s: float = 0.6, pause: float = 0.0, fall_aside: float | None = None) -> Performance:
     """The right hand raised beside the head in `rise_s`, swinging side to side `swings` times, each
-    swing lasting `half_period` (or the swings lasting the durations given, one each)."""
+    swing lasting `half_period` (or the swings lasting the durations given, one each) and followed by
+    a `pause`; then held a moment and brought down to rest, or let fall straight from the last swing,
+    down to hang in 0.6 s, swinging `fall_aside` mm sideways on the way (in its first 0.3 s)."""
     durations = half_period if isinstance(half_period, tuple) else (half_period,) * swings
     centre = (250.0, height, -350.0)
     right = rest(Side.RIGHT).hold(0.3).then(rise_s, (centre[0] + amplitude / 2, height, centre[2]))
     for i, duration in enumerate(durations):
         x = centre[0] + (amplitude / 2 if i % 2 else -amplitude / 2)
         right = right.then(duration, (x, height, centre[2]))
-    right = right.hold(0.2).then(0.8, REST[Side.RIGHT])
-    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
+        if pause:
+            right = right.hold(pause)
+    if fall_aside is None:
+        right = right.hold(0.2).then(0.8, REST[Side.RIGHT])
+        return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
+    last = right.keys[-1][1]
+    down = right.then(0.6, (last[0], *REST[Side.RIGHT][1:]))
+    aside = right.then(0.3, (last[0] + fall_aside, *last[1:]))
+
+    def falling(t: float) -> np.ndarray:
+        return np.array([aside(t)[0], *down(t)[1:]])
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: falling}, down.end + 0.5)
 
 
 def whole_arm_wave(swings: int = 3, opening: tuple[float, float, float] = (450.0, -120.0, -300.0),

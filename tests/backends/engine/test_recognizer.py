@@ -241,6 +241,17 @@ def test_a_wave_below_the_shoulders_or_with_two_swings_is_not_a_wave():
     assert completed(perform(c.wave(swings=2))) == []  # one reversal
 
 
+def test_a_brief_wave_ended_by_letting_the_hand_fall_is_a_wave():
+    """Three swings with pauses are two reversals; the turn into the fall that ends them is the third.
+    The fall is the wave's last stroke, however low it ends and however much it drops (here about 250 mm
+    under the shoulder line, 430 mm down, 300 mm across). UTD-MHAD s3's forearm wave, seen through depth
+    as a 0.85x smaller performer, completes so; a rule that took the fall for no swing lost it. Two swings
+    and the fall are two reversals: no wave."""
+    assert completed(perform(c.wave(swings=3, pause=0.15, fall_aside=300.0))) == ["wave"]
+    assert completed(perform(c.wave(swings=3, pause=0.15))) == []
+    assert completed(perform(c.wave(swings=2, pause=0.15, fall_aside=-300.0))) == []
+
+
 def test_a_wave_reaches_the_shoulders_an_arm_swinging_across_the_chest_does_not():
     """The shoulder line is 270 mm above the torso here. Kinder-Gator's adults wave with the hand up to
     20 mm under it; a jogger's arm swinging across the chest (UTD-MHAD's jogs, seen in depth) stays
