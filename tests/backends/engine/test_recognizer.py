@@ -197,9 +197,9 @@ def test_a_glitch_in_a_push_does_not_make_its_wind_up_the_swipe(push_s, into_pus
     reported `jump_mm` back for one frame as the push gathers speed: the push's first stretch ends there
     at more than a swipe's speed, too short to compare with the wind-up. It goes on past the glitch and
     is the swipe; the wind-up is not. (A glitch before the push is that fast is not told from a turn.)"""
-    windup_s, held_until = 0.3, 0.3 + 0.6 + 0.4
     wound = c.push_out(windup=450.0, duration=push_s)
-    glitched = c.jittered(wound, Side.RIGHT, held_until + windup_s + into_push_s, jump=(-jump_mm, 0.0, 0.0))
+    push_starts = wound.hands[Side.RIGHT].keys[4][0]  # at the end of the wind-up
+    glitched = c.jittered(wound, Side.RIGHT, push_starts + into_push_s, jump=(-jump_mm, 0.0, 0.0))
     assert completed(perform(wound)) == ["swipe_right"]
     assert completed(perform(glitched)) == ["swipe_right"]
 
