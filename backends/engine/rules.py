@@ -260,8 +260,8 @@ class GestureRules(BaseModel):
         100.0, gt=0, description="no swipe while the torso moves further than this towards or away from the "
         "camera within `steady_body_depth_window_s`, from that long before its stroke until it completes (for "
         "an adult, scaled to the performer's size): most kicks move it 150-290 mm in that time, an arm swinging "
-        "across the body for balance. Real swipes move it 40 mm at most, a depth tracker's torso jumps up to "
-        "60 mm as the arm crosses in front of it. Sideways the body may move: a swipe may carry it, leaning "
+        "across the body for balance. Real swipes move it 40 mm at most, pushes 55 mm as a depth tracker sees "
+        "it (UTD-MHAD). Sideways the body may move: a swipe may carry it, leaning "
         "into the sweep. Only with a skeleton to tell")
     steady_body_depth_window_s: float = Field(
         0.3, gt=0, description="see `steady_body_max_depth_move_mm`: a kick or a lunge rocks the torso for "

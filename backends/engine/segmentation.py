@@ -10,7 +10,8 @@ sits on shoulders), and each
 small surface within arm's reach in front of a person (a forearm pointed at the camera is cut off
 from the body by its own depth edge) joins the nearest such person. Clips whose background is
 already removed are simply the easy case: no floor is found and the user is the only surface.
-Who is who from frame to frame is people.py's job; the segmenter only finds them.
+An arm across the body cuts it in two along its depth edges: surfaces that were one person a frame
+ago stay one. Who is who from frame to frame is people.py's job; the segmenter only finds them.
 """
 from __future__ import annotations
 
@@ -36,6 +37,7 @@ BEYOND_USER = 2  # cells around a user its body frame and hand detector look at 
 FLOOR_UNDER = 0.01  # share of the lower cells under a floor found or kept: more, and it is no floor
 SHADOW_MM = 75  # a depth camera's shadow beside a nearer surface is at most its baseline wide there (Kinect: 75 mm)
 MAX_COVERED = 0.25  # share of the crown's columns with such a surface above: more, and it is no crown
+BODY_DEPTH_MM = 250  # a body's thickness: the pieces of one lie within it of each other, someone behind lies further
 
 
 class SegmentationOptions(BaseModel):
@@ -144,8 +146,8 @@ class Person:
 
 
 class Segmenter:
-    """Finds the people in each frame; remembers only the floor plane and the last nearest person
-    (`segment()` stays on them)."""
+    """Finds the people in each frame; remembers only the floor plane and where the people were last
+    frame (`segment()` stays on the first; a person cut in two stays one)."""
 
     def __init__(self, options: SegmentationOptions) -> None:
         self.options = options
@@ -153,7 +155,8 @@ class Segmenter:
         self._floor: np.ndarray | None = None  # (nx, ny, nz, d): n.p + d = height above the floor
         self._plane: np.ndarray | None = None  # the floor removed now (None: none found when last looked)
         self._floor_age = 0  # frames since `_plane` was found
-        self._last_mask: np.ndarray | None = None
+        self._last_masks: list[np.ndarray] = []  # the people's surfaces last frame, the first `segment()`'s user
+        self._last_z: np.ndarray | None = None  # the last frame's grid depth
         self._rng = np.random.default_rng(0)
 
     def grid(self, depth: DepthFrame) -> Grid:
@@ -198,7 +201,7 @@ class Segmenter:
             first = bounding_box(mask)[0].start
             top = float(np.max(g.y[first][mask[first]]))
             out.append(Person(Segment(mask, g, self._plane), centre, top, np.count_nonzero(mask)))
-        self._last_mask = out[0].segment.mask if out else None
+        self._last_masks, self._last_z = [mask for mask, _ in found], g.z  # their surfaces, not the rims
         return out
 
     # -- floor -------------------------------------------------------------------------------
@@ -415,12 +418,15 @@ class Segmenter:
             person[k] = self._enclosed(g, labels, sized, boxes[k], k, mean_z[k]) <= o.max_enclosed
         if not person.any():
             return []
+        whose = self._whose(g, flat, count, n)
+        whose[area < o.min_part_area_m2 * 1e6] = -1  # noise
         rank = mean_z.copy()
-        if stay and self._last_mask is not None and self._last_mask.shape == labels.shape:
-            overlap = np.bincount(flat[self._last_mask.ravel()], minlength=count) / n
-            rank -= 2000.0 * (overlap > 0.3)  # stay on the same person while they are there
+        if stay:
+            rank -= 2000.0 * (whose == 0)  # stay on the same person while they are there
         rank[~person] = np.inf
-        people = np.argsort(rank)[:min(o.max_people, np.count_nonzero(person))]
+        people, piece_of = self._whole(g, labels, np.argsort(rank)[:np.count_nonzero(person)], whose, mean_z)
+        people = people[:o.max_people]
+        piece_of[piece_of >= len(people)] = -1
         # Detached parts: within reach of a person and not behind them; each joins the nearest.
         part = (area >= o.min_part_area_m2 * 1e6) & (area <= o.max_part_area_m2 * 1e6) & ~person
         part[0] = False
@@ -433,8 +439,54 @@ class Segmenter:
         owner = np.full(count, -1)
         owner[part] = np.argmin(np.where(within, distance, np.inf), axis=1)[part]
         owner[people] = np.arange(len(people))
+        owner[piece_of >= 0] = piece_of[piece_of >= 0]
         owned = owner.take(labels)
         return [(owned == k, centres[p]) for k, p in enumerate(people)]
+
+    def _whose(self, g: Grid, flat: np.ndarray, count: int, n: np.ndarray) -> np.ndarray:
+        """For each surface, the person of the last frame (their index) over 30 % of its cells were,
+        at the same depth (the depth changed less than a depth edge since: the same surface, not the
+        wall seen where an arm was); the first such, or -1."""
+        if self._last_z is None or self._last_z.shape != g.z.shape:
+            return np.full(count, -1)
+        o = self.options
+        same = np.abs(g.z - self._last_z) < o.edge_mm + o.edge_ratio * g.z
+        whose = np.full(count, -1)
+        for j, mask in reversed(list(enumerate(self._last_masks))):
+            whose[np.bincount(flat[(mask & same).ravel()], minlength=count) / n > 0.3] = j
+        whose[0] = -1
+        return whose
+
+    def _whole(self, g: Grid, labels: np.ndarray, people: np.ndarray, whose: np.ndarray,
+               mean_z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Something in front of a person (their arm across the body, someone passing) cuts them into
+        pieces along its depth edges: the surfaces that were one person a frame ago, cut off by
+        something nearer and within a body's thickness of each other (`BODY_DEPTH_MM`), are one person
+        still, not several, nor left out of the body. Two people who were one surface for a frame, side
+        by side or one behind the other, are two again: the background between them, or a body's
+        thickness. The people picked, less such pieces of one picked before them, and for each surface
+        the person (index among them) it is a piece of, or -1."""
+        piece_of = np.full(whose.size, -1)
+        kept: list[int] = []
+        for p in people:
+            if piece_of[p] >= 0:
+                continue
+            piece_of[p] = len(kept)
+            others = [q for q in np.flatnonzero(whose == whose[p]) if q != p] if whose[p] >= 0 else []
+            depth = median(g.z[labels == p]) if others else None
+            for q in others:
+                piece = labels == q
+                if abs(median(g.z[piece]) - depth) < BODY_DEPTH_MM and self._in_front_of(g, piece, mean_z[q]):
+                    piece_of[q] = len(kept)
+            kept.append(p)
+        return np.array(kept, dtype=people.dtype), piece_of
+
+    def _in_front_of(self, g: Grid, surface: np.ndarray, depth: float) -> bool:
+        """Is there something nearer than a depth edge in front of `surface` (at `depth`), within two
+        cells of it (past the band its edge cuts)?"""
+        o = self.options
+        around = cv2.dilate(surface.view(np.uint8), RING).view(bool)
+        return bool(np.any(around & (g.z > 0) & (g.z < depth - o.edge_mm - o.edge_ratio * depth)))
 
 
 def _boxes(labels: np.ndarray, which: np.ndarray) -> np.ndarray:

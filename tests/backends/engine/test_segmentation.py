@@ -6,8 +6,11 @@ import pytest
 
 from backends.engine import segmentation
 from backends.engine.segmentation import SegmentationOptions, Segmenter
+from backends.engine.tracker import HandTracker
 from host import DepthFrame, Intrinsics
+from sources.clip import Clip
 from tests.backends.engine.performer import frames, idle
+from tests.conftest import real_data
 
 SIZE = {"width": 320, "height": 240}
 
@@ -67,3 +70,100 @@ def test_someone_whose_legs_are_in_a_near_childs_shadow_is_still_found(monkeypat
     assert found(SegmentationOptions()) == counts
     monkeypatch.setattr(segmentation, "SHADOW_MM", 0)
     assert sum(found(SegmentationOptions())) < sum(counts)
+
+
+def standing(arm: str | None = None, wall_mm: float | None = None, second: tuple[float, float] | None = None,
+             bridged: bool = False, width: int = 320, height: int = 240) -> DepthFrame:
+    """Someone 2.5 m away, head, trunk (400 mm wide) and legs on one plane, before a wall at `wall_mm`
+    (None: the background removed). `arm`: "across", a forearm 350 mm in front of the chest from the
+    shoulder down across it and out past the hip on the other side (UTD-MHAD s3 and s4 swipe so),
+    whose depth edges cut the body in two; "side", an arm held against the side; "loop", that arm's
+    hand on the hip, the elbow out, the wall seen through the loop it makes. `second`: another person
+    (mm to the right, mm further away); `bridged`: an arm from the first one's side to the second's,
+    sloping in depth without a depth edge, which makes the two one surface."""
+    k = Intrinsics.from_fov(width, height, 57.0, 43.0)
+    v, u = np.mgrid[0:height, 0:width].astype(np.float64)
+
+    def at(depth: float) -> tuple[np.ndarray, np.ndarray]:
+        return (u - k.cx) / k.fx * depth, (k.cy - v) / k.fy * depth
+
+    def body(right_mm: float, depth: float) -> np.ndarray:
+        x, y = at(depth)
+        x = x - right_mm
+        return (((np.abs(x) <= 200) & (y >= -200) & (y <= 400)) | ((np.abs(x) <= 80) & (y > 400) & (y <= 650))
+                | ((np.abs(np.abs(x) - 100) <= 70) & (y >= -1000) & (y < -200)))
+
+    z = np.full((height, width), wall_mm or 0.0)
+    if second is not None:
+        right_mm, behind_mm = second
+        z[body(right_mm, 2500 + behind_mm)] = 2500 + behind_mm
+        if bridged:  # from (200, 2500) to (right_mm - 200, 2500 + behind_mm), where each column's ray meets it
+            ray, _ = at(1.0)
+            along = (2500 * ray - 200) / (right_mm - 400 - behind_mm * ray)
+            depth = 2500 + behind_mm * along
+            _, up = at(depth)
+            reaching = (along >= 0) & (along <= 1) & (up >= 0) & (up <= 100)
+            z[reaching] = depth[reaching]
+    z[body(0, 2500)] = 2500
+    x, y = at(2500.0)
+    beside = (x > 200) & (x <= 500) & (y >= -150) & (y <= 300)
+    if arm == "side":
+        z[beside] = 2500
+    elif arm == "loop":
+        z[beside & ~((x > 260) & (x <= 440) & (y >= -90) & (y <= 240))] = 2450
+    elif arm == "across":
+        x, y = at(2150.0)
+        z[(np.abs(y - (150 - 1.2 * x)) <= 60) & (np.abs(x) <= 320)] = 2150
+    return DepthFrame(np.round(z).astype(np.uint16), k)
+
+
+def test_an_arm_across_the_body_does_not_cut_the_user_in_two():
+    """A forearm across the chest cuts the body into two surfaces along its depth edges. Seen first
+    so, they look like two people. Seen whole a frame before, the user stays one person, head to feet
+    (a trunk left out shifts the body's depth as a lunge does; a head left out is no head)."""
+    assert len(Segmenter(SegmentationOptions(floor=False)).people(standing("across"))) == 2
+    segmenter = Segmenter(SegmentationOptions(floor=False))
+    segmenter.people(standing())
+    assert len(segmenter.people(standing("across"))) == 1
+    user = segmenter.segment(standing("across"))
+    heights = user.grid.y[user.mask]
+    assert heights.max() > 600 and heights.min() < -900, (heights.max(), heights.min())
+
+
+def test_the_wall_seen_where_the_arm_was_does_not_join_the_user():
+    """Hands on the hips: the wall 0.6 m behind shows through the loop of the arm, where the arm was
+    a frame before. That surface is no piece of the user cut off (its depth changed by more than a
+    depth edge): only the cells at the loop's rim are theirs, as around any nearer surface."""
+    segmenter = Segmenter(SegmentationOptions(floor=False))
+    segmenter.segment(standing("side", wall_mm=3100))
+    user = segmenter.segment(standing("loop", wall_mm=3100))
+    g = user.grid
+    across, up = g.x / np.maximum(g.z, 1), g.y / np.maximum(g.z, 1)  # the loop's middle: (350, 75) mm at the arm
+    middle = (np.abs(across - 350 / 2450) < 0.01) & (np.abs(up - 75 / 2450) < 0.01) & (g.z > 3000)
+    assert middle.any() and not (user.mask & middle).any()
+
+
+@pytest.mark.parametrize("before, now", [
+    ({"second": (400, 0)}, {"second": (500, 0)}),  # side by side, touching; then a step apart
+    ({"second": (600, 377), "bridged": True}, {"second": (600, 377), "arm": "side"}),  # an arm reaching back
+])
+def test_two_people_who_were_one_surface_for_a_frame_are_two_again(before, now):
+    """Two people touching, or joined for a frame by an arm reaching from one to the other without a
+    depth edge, are one surface. Apart again, they are two people: with the background between them,
+    or with the second a body's thickness behind the first (whose arm, held out, now hides part of
+    them: cut off by something nearer, as an arm across the body cuts its own body)."""
+    segmenter = Segmenter(SegmentationOptions(floor=False))
+    assert len(segmenter.people(standing(wall_mm=4000, **before))) == 1
+    assert len(segmenter.people(standing(wall_mm=4000, **now))) == 2
+
+
+@pytest.mark.parametrize("take", ["a1_s3_t2_swipe_left", "a1_s4_t2_swipe_left"])
+def test_a_real_swipe_across_the_chest_leaves_the_bodys_depth_where_it_was(take):
+    """UTD-MHAD s3's and s4's swipes to the left cross the chest, cutting the body in two for a frame.
+    The torso's depth stays within the 40 mm that real swipes move it: left out of the user, the trunk
+    had the body's depth jump 75-81 mm forward there (120 mm for a performer 1.15 times as big, a lunge
+    to the steadiness rule, and the swipe was lost)."""
+    clip = Clip(real_data("utd-mhad-dev", "clips", f"{take}.npz"))
+    tracker = HandTracker()
+    depths = [tracker.process(clip.frame(i, i)).body["torso"][2] for i in range(len(clip))]
+    assert np.ptp(depths) <= 40, np.ptp(depths)
