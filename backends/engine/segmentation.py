@@ -314,7 +314,7 @@ class Segmenter:
         mask = window == k
         ring = cv2.dilate(mask.view(np.uint8), RING).view(bool) & ~mask & (window > 0)
         around, z = window[ring], g.z[y0:y + h + 2, x0:x + w + 2][ring]
-        nearer = sized[around] & (z < depth - self.options.edge_mm - self.options.edge_ratio * depth)
+        nearer = sized[around] & (z < self._nearer_than(depth))
         return np.count_nonzero(nearer) / max(1, around.size)
 
     def _head_and_shoulders(self, g: Grid, labels: np.ndarray, box: np.ndarray, k: int) -> bool:
@@ -367,7 +367,7 @@ class Segmenter:
             return True
         gap = math.ceil(o.max_gap_below_mm / (g.cell_y * depth))  # rows the gap may span
         reach = math.ceil(SHADOW_MM / (g.cell_x * o.min_distance_mm))  # columns a shadow may span
-        nearer = depth - o.edge_mm - o.edge_ratio * depth
+        nearer = self._nearer_than(depth)
         lowest = h - 1 - np.argmax(mask[::-1], axis=0)  # each column's lowest cell (row in the box)
         cols = np.flatnonzero(mask.any(axis=0) & (lowest >= lowest.max() - 2))
         seen = 0
@@ -447,7 +447,7 @@ class Segmenter:
         """For each surface, the person of the last frame (their index) over 30 % of its cells were,
         at the same depth (the depth changed less than a depth edge since: the same surface, not the
         wall seen where an arm was); the first such, or -1."""
-        if self._last_z is None or self._last_z.shape != g.z.shape:
+        if not self._last_masks or self._last_z.shape != g.z.shape:
             return np.full(count, -1)
         o = self.options
         same = np.abs(g.z - self._last_z) < o.edge_mm + o.edge_ratio * g.z
@@ -484,9 +484,14 @@ class Segmenter:
     def _in_front_of(self, g: Grid, surface: np.ndarray, depth: float) -> bool:
         """Is there something nearer than a depth edge in front of `surface` (at `depth`), within two
         cells of it (past the band its edge cuts)?"""
-        o = self.options
-        around = cv2.dilate(surface.view(np.uint8), RING).view(bool)
-        return bool(np.any(around & (g.z > 0) & (g.z < depth - o.edge_mm - o.edge_ratio * depth)))
+        box = bounding_box(surface, 2)
+        around = cv2.dilate(surface[box].astype(np.uint8), RING).view(bool)
+        z = g.z[box]
+        return bool(np.any(around & (z > 0) & (z < self._nearer_than(depth))))
+
+    def _nearer_than(self, depth: float) -> float:
+        """Readings nearer than this are in front of a surface at `depth`, across a depth edge."""
+        return depth - self.options.edge_mm - self.options.edge_ratio * depth
 
 
 def _boxes(labels: np.ndarray, which: np.ndarray) -> np.ndarray:
