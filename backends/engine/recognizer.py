@@ -640,10 +640,15 @@ class _Hand:
         ago than a swipe lasts, and is `current` heading like a sideways swipe but for its speed (the
         hand up, moving sideways `swipe_dominance` times faster than up or down now)? A wind-up turns
         straight into its swipe, which may take a while to gather speed; an arm dropping back to rest
-        after a swipe goes down as much as back."""
+        after a swipe goes down as much as back. After a stroke that rose as far as a swipe travels
+        (an arm swung up across the body in an arc), the hand loops up at the turn: rising then is no
+        drop to rest, only going down counts."""
+        vy = float(current.end.v[Y])
+        if float(stroke.end.p[Y] - stroke.start.p[Y]) >= self.swipe_travel_mm(stroke):
+            vy = min(vy, 0.0)
         return (current.axis == X and current.start.t <= stroke.end.t
                 and current.duration <= self.r.swipe_max_duration_s and self.raised(current, current.lowest)
-                and abs(float(current.end.v[X])) >= self.r.swipe_dominance * abs(float(current.end.v[Y])))
+                and abs(float(current.end.v[X])) >= self.r.swipe_dominance * abs(vy))
 
     def strength(self, stroke: Stroke) -> float:
         """How far and how fast the stroke's core goes: travel times mean speed (mm^2/s). Of a swipe and

@@ -279,6 +279,44 @@ def test_a_whole_arm_wave_opened_by_swinging_the_arm_up_across_is_a_wave(noise_m
     assert "wave" not in completed(perform(c.whole_arm_wave(swings=2), noise_mm=noise_mm))
 
 
+#: UTD-MHAD a3_s4_t4's right hand (mm from the torso, image x), as the engine's depth tracker follows it with
+#: the performer 0.7 m farther away: found mid-rise, swung up across the body, looped up at the turn
+#: (10th-13th samples), swung back and across again.
+WHOLE_ARM_SWINGS = (
+    (391, -87, -310), (395, -35, -335), (386, 119, -401), (363, 200, -429), (343, 283, -451), (229, 381, -427),
+    (136, 428, -416), (-21, 417, -379), (-74, 376, -345), (-131, 360, -295), (-129, 334, -263),
+    (-116, 343, -265), (-39, 415, -329), (-2, 485, -375), (94, 500, -398), (316, 478, -409), (383, 449, -404),
+    (428, 432, -387), (410, 436, -389), (311, 449, -394), (236, 459, -399), (54, 430, -392), (-56, 357, -339),
+    (-86, 328, -302), (-90, 343, -282), (-73, 373, -297), (-40, 404, -320))
+
+
+def tracked(track, seconds_per_sample: float = 1 / 30) -> list[str]:
+    """The gestures completed on one right hand moving along `track` (mm from the torso, image x)."""
+    recognizer, events = GestureRecognizer(GestureRules()), []
+    torso = np.array([0.0, 0.0, 3500.0])
+    body = {"torso": tuple(torso), "head": tuple(torso + (0.0, 529.0, 0.0))}
+    for i, p in enumerate(track):
+        hand = Hand(1, HandState.TRACKING, tuple(torso + p), Side.RIGHT)
+        events += recognizer.update(i * seconds_per_sample, [hand], body, True)
+    return completed(events + recognizer.finish())
+
+
+@pytest.mark.parametrize("turn", [0, 1, -1], ids=["as-tracked", "a-frame-longer", "a-frame-shorter"])
+def test_a_whole_arm_swing_up_across_that_loops_up_at_its_turn_waits_for_the_swing_back(turn):
+    """The arm swung up across the body in an arc (the hand rising 450 mm, more than a swipe's travel) turns
+    in a loop: the hand rises 150 mm at the turn before the swing back gathers speed sideways (0.1-0.15 s).
+    Rising, it is not an arm dropping back to rest: the swing up waits for the swing back as for one the
+    hand turned straight into, and the three swings are a wave, not a swipe (it was confirmed a swipe, and
+    its refractory period swallowed the wave). Dropped back to rest from the same turn, or held where the
+    loop took it, it is a swipe."""
+    track = list(WHOLE_ARM_SWINGS)
+    track = track[:11] + track[11:12] * (1 + turn) + track[12:]
+    assert tracked(track) == ["wave"]
+    dropped = WHOLE_ARM_SWINGS[:11] + tuple((-120, y, -200) for y in (250, 100, -50, -200, -300, -330, -330, -330))
+    assert tracked(dropped) == ["swipe_left"]
+    assert tracked(WHOLE_ARM_SWINGS[:14] + WHOLE_ARM_SWINGS[13:14] * 20) == ["swipe_left"]
+
+
 def test_hands_jiggling_at_the_eyes_are_no_wave():
     """Both hands near each other: the other hand is not elsewhere, as a waving performer's is."""
     assert "wave" not in completed(perform(c.hands_at_the_eyes()))
