@@ -1,6 +1,8 @@
 """The gesture recogniser on synthetic performances described physically (mm, s)."""
 from __future__ import annotations
 
+from collections.abc import Iterable, Sequence
+
 import numpy as np
 import pytest
 from pydantic import ValidationError
@@ -23,6 +25,19 @@ def perform(performance: c.Performance, rules: GestureRules | None = None, dicti
 
 def completed(events: list[Gesture]) -> list[str]:
     return [e.name for e in events if e.state is GestureState.COMPLETE]
+
+
+STILL_BODY = {"torso": (0.0, 0.0, 2500.0), "head": (0.0, 520.0, 2500.0)}
+
+
+def played(samples: Iterable[tuple[float, Sequence[float]]]) -> list[str]:
+    """The gestures completed on one right hand at `samples`, (t, (x, y, z) mm from the torso) in a mirrored
+    view, the body standing still (STILL_BODY), the stream then ended."""
+    recognizer, events = GestureRecognizer(GestureRules()), []
+    for t, p in samples:
+        hand = Hand(2, HandState.TRACKING, tuple(np.add(STILL_BODY["torso"], p)), Side.RIGHT)
+        events += recognizer.update(t, [hand], STILL_BODY, True)
+    return completed(events + recognizer.finish())
 
 
 @pytest.mark.parametrize("with_body", [True, False], ids=["skeleton", "hands-only"])
@@ -279,7 +294,7 @@ def test_a_whole_arm_wave_opened_by_swinging_the_arm_up_across_is_a_wave(noise_m
     assert "wave" not in completed(perform(c.whole_arm_wave(swings=2), noise_mm=noise_mm))
 
 
-#: UTD-MHAD a3_s4_t4's right hand (mm from the torso, image x), as the engine's depth tracker follows it with
+#: UTD-MHAD a3_s4_t4's right hand (mm from the torso, mirrored view), as the engine's depth tracker follows it with
 #: the performer 0.7 m farther away: found mid-rise, swung up across the body, looped up at the turn
 #: (10th-13th samples), swung back and across again.
 WHOLE_ARM_SWINGS = (
@@ -290,17 +305,6 @@ WHOLE_ARM_SWINGS = (
     (-86, 328, -302), (-90, 343, -282), (-73, 373, -297), (-40, 404, -320))
 
 
-def tracked(track, seconds_per_sample: float = 1 / 30) -> list[str]:
-    """The gestures completed on one right hand moving along `track` (mm from the torso, image x)."""
-    recognizer, events = GestureRecognizer(GestureRules()), []
-    torso = np.array([0.0, 0.0, 3500.0])
-    body = {"torso": tuple(torso), "head": tuple(torso + (0.0, 529.0, 0.0))}
-    for i, p in enumerate(track):
-        hand = Hand(1, HandState.TRACKING, tuple(torso + p), Side.RIGHT)
-        events += recognizer.update(i * seconds_per_sample, [hand], body, True)
-    return completed(events + recognizer.finish())
-
-
 @pytest.mark.parametrize("turn", [0, 1, -1], ids=["as-tracked", "a-frame-longer", "a-frame-shorter"])
 def test_a_whole_arm_swing_up_across_that_loops_up_at_its_turn_waits_for_the_swing_back(turn):
     """The arm swung up across the body in an arc (the hand rising 450 mm, more than a swipe's travel) turns
@@ -309,12 +313,13 @@ def test_a_whole_arm_swing_up_across_that_loops_up_at_its_turn_waits_for_the_swi
     hand turned straight into, and the three swings are a wave, not a swipe (it was confirmed a swipe, and
     its refractory period swallowed the wave). Dropped back to rest from the same turn, or held where the
     loop took it, it is a swipe."""
-    track = list(WHOLE_ARM_SWINGS)
-    track = track[:11] + track[11:12] * (1 + turn) + track[12:]
-    assert tracked(track) == ["wave"]
+    def at_30_hz(track):
+        return [(i / 30, p) for i, p in enumerate(track)]
+    swings = WHOLE_ARM_SWINGS[:11] + WHOLE_ARM_SWINGS[11:12] * (1 + turn) + WHOLE_ARM_SWINGS[12:]
+    assert played(at_30_hz(swings)) == ["wave"]
     dropped = WHOLE_ARM_SWINGS[:11] + tuple((-120, y, -200) for y in (250, 100, -50, -200, -300, -330, -330, -330))
-    assert tracked(dropped) == ["swipe_left"]
-    assert tracked(WHOLE_ARM_SWINGS[:14] + WHOLE_ARM_SWINGS[13:14] * 20) == ["swipe_left"]
+    assert played(at_30_hz(dropped)) == ["swipe_left"]
+    assert played(at_30_hz(WHOLE_ARM_SWINGS[:14] + WHOLE_ARM_SWINGS[13:14] * 20)) == ["swipe_left"]
 
 
 def test_hands_jiggling_at_the_eyes_are_no_wave():
@@ -642,44 +647,25 @@ def test_a_push_across_a_tracking_gap_is_a_click(seen):
     """A hand unseen for a moment (real depth at 4 m, two hands close together) comes back already
     pushing, or already pushed: speeds are measured within what was seen after the gap, and the
     first sample after it keeps the average speed across the gap (all that is known of it)."""
-    torso = (0.0, 0.0, 2500.0)
-    body = {"torso": torso, "head": (0.0, 520.0, 2500.0)}
     before = [(i / 30, -206.0) for i in range(10)]  # held at the chest until 0.3 s
     after = [(0.5 + i / 30, z) for i, z in enumerate(seen)]
-    recognizer = GestureRecognizer(GestureRules())
-    events = []
-    for t, z in before + after:
-        hand = Hand(2, HandState.TRACKING, (150.0, 300.0, torso[2] + z), Side.RIGHT)
-        events += recognizer.update(t, [hand], body, True)
-    assert completed(events) == ["click"]
+    assert played((t, (150.0, 300.0, z)) for t, z in before + after) == ["click"]
 
 
 def test_a_push_whose_hand_is_unseen_as_it_stops_is_a_click():
     """A depth tracker may lose the hand for a frame or two just as a push stops short: whether it
     halted is told by the next sample, whose speed spans the gap."""
-    body = {"torso": (0.0, 0.0, 2500.0), "head": (0.0, 520.0, 2500.0)}
     rest = [(i / 30, -200.0) for i in range(10)]  # held at the chest
     push = [(rest[-1][0] + (i + 1) / 30, -200.0 - 2000.0 * (i + 1) / 30) for i in range(6)]  # 2 m/s, 400 mm
     stop = [(push[-1][0] + (i + 3) / 30, -600.0) for i in range(8)]  # unseen for two frames, then still
-    recognizer = GestureRecognizer(GestureRules())
-    events = []
-    for t, z in rest + push + stop:
-        hand = Hand(2, HandState.TRACKING, (150.0, 300.0, 2500.0 + z), Side.RIGHT)
-        events += recognizer.update(t, [hand], body, True)
-    assert completed(events) == ["click"]
+    assert played((t, (150.0, 300.0, z)) for t, z in rest + push + stop) == ["click"]
 
 
 def test_speeds_are_not_measured_across_frames_missing_from_a_run():
     """The hand missed for a frame just before it pushes (a real clip's push, relative to the
     torso): the push's first speeds are measured over the frames after the miss, not averaged over
     the missed stretch (which would make the push start later and travel too little to count)."""
-    body = {"torso": (0.0, 0.0, 2500.0), "head": (0.0, 520.0, 2500.0)}
     still = [(i / 30, -211.0) for i in range(12)]
     seen_again = (-212, -260, -356, -411, -457, -544, -544, -550, -549, -548, -548)
     push = [((i + 13) / 30, float(z)) for i, z in enumerate(seen_again)]  # frame 12 missed
-    recognizer = GestureRecognizer(GestureRules())
-    events = []
-    for t, z in still + push:
-        hand = Hand(2, HandState.TRACKING, (150.0, 300.0, 2500.0 + z), Side.RIGHT)
-        events += recognizer.update(t, [hand], body, True)
-    assert completed(events) == ["click"]
+    assert played((t, (150.0, 300.0, z)) for t, z in still + push) == ["click"]
