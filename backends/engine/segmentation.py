@@ -449,8 +449,7 @@ class Segmenter:
         wall seen where an arm was); the first such, or -1."""
         if not self._last_masks or self._last_z.shape != g.z.shape:
             return np.full(count, -1)
-        o = self.options
-        same = np.abs(g.z - self._last_z) < o.edge_mm + o.edge_ratio * g.z
+        same = np.abs(g.z - self._last_z) < self._edge(g.z)
         whose = np.full(count, -1)
         for j, mask in reversed(list(enumerate(self._last_masks))):
             whose[np.bincount(flat[(mask & same).ravel()], minlength=count) / n > 0.3] = j
@@ -485,13 +484,17 @@ class Segmenter:
         """Is there something nearer than a depth edge in front of `surface` (at `depth`), within two
         cells of it (past the band its edge cuts)?"""
         box = bounding_box(surface, 2)
-        around = cv2.dilate(surface[box].astype(np.uint8), RING).view(bool)
+        around = cv2.dilate(surface[box].view(np.uint8), RING).view(bool)
         z = g.z[box]
         return bool(np.any(around & (z > 0) & (z < self._nearer_than(depth))))
 
+    def _edge(self, depth: float | np.ndarray) -> float | np.ndarray:
+        """The depth jump that separates two surfaces at `depth` (mm, a number or an array)."""
+        return self.options.edge_mm + self.options.edge_ratio * depth
+
     def _nearer_than(self, depth: float) -> float:
         """Readings nearer than this are in front of a surface at `depth`, across a depth edge."""
-        return depth - self.options.edge_mm - self.options.edge_ratio * depth
+        return depth - self._edge(depth)
 
 
 def _boxes(labels: np.ndarray, which: np.ndarray) -> np.ndarray:
