@@ -188,11 +188,14 @@ class OscInBackend(Backend):
         self._seq += 1
         self._last_frame = time.monotonic()
         # captured when its newest message arrived; a frame with none (a user's state kept or
-        # timed out while the bridge is quiet) is made now, not "captured" seconds ago
+        # timed out while the bridge is quiet) is made now, not "captured" seconds ago, but keeps
+        # the newest sample's time: it brings no new sample, and the host's learned recognisers
+        # (host/learned_users.py) would take its hands, stamped later, for a pause never made
         capture = time.time() - (now - arrival) if arrival is not None else time.time()
-        depth = self.blank(*KINECT_V1, self._seq, t, capture, self.mirrored)
+        sampled = t if arrival is not None else self._last_t[0]
+        depth = self.blank(*KINECT_V1, self._seq, sampled, capture, self.mirrored)
         return Frame(self._seq, capture, depth, hands if self.tracking_hands else (),
-                     tuple(gestures) if self.detecting_gestures else (), self.name, users=users, time=t)
+                     tuple(gestures) if self.detecting_gestures else (), self.name, users=users, time=sampled)
 
     def _now_t(self) -> float:
         """The source time now: the newest sample's, plus the time since it arrived."""

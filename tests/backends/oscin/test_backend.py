@@ -115,16 +115,20 @@ def test_bad_messages_are_counted_and_reported_once_per_kind():
 def test_a_quiet_bridges_frames_are_made_now_not_captured_long_ago():
     """OSCeleton says /new_user, then nothing until the skeleton is calibrated: the frames that keep
     the user (until LOST) carry no message, so their capture time is when they are made; the
-    show's capture -> effect latency stays that of the frames, not the silence's length."""
+    show's capture -> effect latency stays that of the frames, not the silence's length. Their
+    source time stays that of the last message: they bring nothing new, and a learned recogniser
+    fed the same hands at later times would read a pause the performer never made."""
     from pythonosc.udp_client import SimpleUDPClient
     with backend(end_after_idle_s=1.2, lost_timeout_s=0.8) as b:
         SimpleUDPClient("127.0.0.1", b.port).send_message("/new_user", 1)
-        lags, made = [], []
+        lags, made, times = [], [], set()
         for frame in frames_of(b):
             lags.append(time.time() - frame.capture_time)
             made.append(time.monotonic())
+            times.add(frame.time)
     assert made[-1] - made[0] > 0.6 and len(lags) > 10  # the user kept, then LOST, with no message
     assert max(lags) < 0.2, lags
+    assert len(times) == 1  # the /new_user's
 
 
 def test_synapse_is_sent_the_keep_alive_it_needs():
