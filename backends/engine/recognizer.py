@@ -644,7 +644,7 @@ class _Hand:
         (an arm swung up across the body in an arc), the hand loops up at the turn: rising then is no
         drop to rest, only going down counts."""
         vy = float(current.end.v[Y])
-        if float(stroke.end.p[Y] - stroke.start.p[Y]) >= self.swipe_travel_mm(stroke):
+        if stroke.rise >= self.swipe_travel_mm(stroke):
             vy = min(vy, 0.0)
         return (current.axis == X and current.start.t <= stroke.end.t
                 and current.duration <= self.r.swipe_max_duration_s and self.raised(current, current.lowest)
@@ -777,7 +777,7 @@ class _Hand:
         """Forward at least `click_min_forward_per_rise` of the rise, from the push's turn forward.
         Checked only once the cheaper tests pass: `click_under_way` asks every frame."""
         push = self.turned_forward(core, self.r.click_end_mm * k)
-        return push.travel >= self.r.click_min_forward_per_rise * float(push.end.p[Y] - push.start.p[Y])
+        return push.travel >= self.r.click_min_forward_per_rise * push.rise
 
     @staticmethod
     def turned_forward(core: Stroke, push_mm: float) -> Stroke:

@@ -56,6 +56,11 @@ class Stroke:
         return float(self.direction * (self.end.p[self.axis] - self.start.p[self.axis]))
 
     @property
+    def rise(self) -> float:
+        """Net travel upward, mm (negative when the stroke went down), whatever its axis."""
+        return float(self.end.p[Y] - self.start.p[Y])
+
+    @property
     def duration(self) -> float:
         """Seconds, to the microsecond: three frames at 30 Hz last 0.1 s, where the difference of their
         timestamps is 0.09999999999999998, which rules stated in frames (0.1 s: three at 30 Hz) rejected."""

@@ -192,7 +192,7 @@ class OscInBackend(Backend):
         # the newest sample's time: it brings no new sample, and the host's learned recognisers
         # (host/learned_users.py) would take its hands, stamped later, for a pause never made
         capture = time.time() - (now - arrival) if arrival is not None else time.time()
-        sampled = t if arrival is not None else self._last_t[0]
+        sampled = self._last_t[0]  # t itself when this frame drained a sample
         depth = self.blank(*KINECT_V1, self._seq, sampled, capture, self.mirrored)
         return Frame(self._seq, capture, depth, hands if self.tracking_hands else (),
                      tuple(gestures) if self.detecting_gestures else (), self.name, users=users, time=sampled)
