@@ -375,9 +375,23 @@ class _Hand:
                 return False
         else:
             lowest = core.lowest
-        return (core.peak_speed >= r.swipe_min_peak_speed_mm_s and core.dominance >= r.swipe_dominance
+        return (core.peak_speed >= r.swipe_min_peak_speed_mm_s and self.sweep_dominance(core) >= r.swipe_dominance
                 and self.raised(core, lowest) and core.duration <= r.swipe_max_duration_s
                 and core.body_speed <= r.steady_body_max_vertical_speed_mm_s and self.body_steady(stroke))
+
+    def sweep_dominance(self, core: Stroke) -> float:
+        """The core's dominance, but for a sweep sideways that does not fall, the hand up
+        (`swipe_level_dominance`): a whole arm swinging about its shoulder, from in front to the side or
+        across the body, brings the hand back towards the body's plane as it goes, up to as far as it
+        sweeps across. Depth forwards (-z, towards the camera), back beyond that, or behind the torso's
+        plane still counts."""
+        d = core.end.p - core.start.p
+        if (core.axis != X or core.travel < self.r.swipe_level_dominance * -float(d[Y])
+                or core.lowest < self.r.active_min_height_mm):
+            return core.dominance
+        back = float(d[Z])
+        depth = max(back - core.travel, float(core.end.p[Z]), 0.0) if back > 0 else -back
+        return core.travel / max(abs(float(d[Y])), depth, 1.0)
 
     def raised(self, stroke: Stroke, lowest: float) -> bool:
         """Is the hand up from rest throughout the stroke? Above the rest line; or, sweeping sideways,
@@ -513,16 +527,17 @@ class _Hand:
         return (follower.direction == -first.direction and self.swipe_like(follower)
                 and follower.travel >= self.r.swipe_comparable_ratio * first.travel)
 
-    def stroke_confidence(self, stroke: Stroke, min_travel_mm: float, min_peak_speed_mm_s: float,
-                          dominance: float) -> float:
-        """How far the stroke's core clears a gesture's travel, speed and dominance thresholds."""
-        core = self.core(stroke)
+    @staticmethod
+    def stroke_confidence(core: Stroke, min_travel_mm: float, min_peak_speed_mm_s: float, dominance: float,
+                          min_dominance: float) -> float:
+        """How far a stroke's core clears a gesture's travel, speed and dominance thresholds."""
         return _confidence(_margin(core.travel, min_travel_mm), _margin(core.peak_speed, min_peak_speed_mm_s),
-                           _margin(core.dominance, dominance))
+                           _margin(dominance, min_dominance))
 
     def swipe_confidence(self, stroke: Stroke) -> float:
-        return self.stroke_confidence(stroke, self.swipe_travel_mm(stroke), self.r.swipe_min_peak_speed_mm_s,
-                                      self.r.swipe_dominance)
+        core = self.core(stroke)
+        return self.stroke_confidence(core, self.swipe_travel_mm(stroke), self.r.swipe_min_peak_speed_mm_s,
+                                      self.sweep_dominance(core), self.r.swipe_dominance)
 
     def stroke_ended(self, stroke: Stroke, reversed_: bool) -> None:
         chain = self.tr.chains[stroke.axis]
@@ -799,8 +814,9 @@ class _Hand:
         return float(d[Z] / max(d[X], d[Y], 1.0))
 
     def click_confidence(self, stroke: Stroke) -> float:
-        r = self.r
-        return self.stroke_confidence(stroke, r.click_min_travel_mm, r.click_min_peak_speed_mm_s, r.click_dominance)
+        r, core = self.r, self.core(stroke)
+        return self.stroke_confidence(core, r.click_min_travel_mm, r.click_min_peak_speed_mm_s, core.dominance,
+                                      r.click_dominance)
 
     def halted(self, stroke: Stroke) -> bool:
         """Did the hand nearly stop at the stroke's end (a push stops or comes back; a hand sweeping

@@ -77,6 +77,13 @@ class GestureRules(BaseModel):
     swipe_dominance: float = Field(
         1.5, ge=1, description="travel along the swipe direction over the largest travel along the other axes: "
         "diagonal wind-ups and returns stay below it")
+    swipe_level_dominance: float = Field(
+        5.0, ge=1, description="a sweep sideways that does not fall (rising, or falling at most 1/this of its "
+        "travel: 11 degrees), the hand above `active_min_height_mm` throughout, is an arm swinging about its "
+        "shoulder: its hand comes back towards the body's plane (the torso's depth) by up to as far as it "
+        "sweeps across (a quarter circle), and that depth does not count against `swipe_dominance`; moving "
+        "forwards, back further or behind the body does. An arm swinging back to throw, run or kick falls, "
+        "or ends behind the body")
     vertical_swipe_seen_before_s: float = Field(
         0.1, ge=0, description="a swipe up or down must start after its hand has been seen without a gap "
         "for this long, and the hand must still be seen right after it: a hand found mid-rise may be "
