@@ -30,6 +30,7 @@ RATE_HZ = 15.0  # postures per second, templates and live streams alike
 DEFAULT_SIZE_MM = 520.0  # head-torso distance of an adult, used until a head is seen
 HAND_HOLD_S = 0.5  # a hand unseen for longer hangs at rest (a depth engine reports only hands held out)
 REST_PLACE = {Side.LEFT: (-0.3, -0.6, -0.25), Side.RIGHT: (0.3, -0.6, -0.25)}  # hands at rest, body units
+TICK_SLACK_S = 1e-3  # timestamps are written to the millisecond or finer: a tick this little after a sample falls on it
 _SIZE_WINDOW = 60  # head-torso distances in the running median (two seconds at 30 Hz)
 _REST_WINDOW_S = 40.0  # without a torso: how far back the hands' resting place is looked for, ...
 _REST_SHARE = 5.0  # ... as the lowest this percent of their places (2 s of the 40: a performer rests that long) ...
@@ -92,12 +93,12 @@ class PostureStream:
         out = []
         if self._next is None:
             self._next = t
-        while self._next <= t + 1e-9:  # linear interpolation between the last frame and this one
+        while self._next <= t + TICK_SLACK_S:  # linear interpolation between the last frame and this one
             tick = self._next
             if self._last is None or t <= self._last.t:
                 out.append(Posture(tick, vector))
             else:
-                w = (tick - self._last.t) / (t - self._last.t)
+                w = min(1.0, (tick - self._last.t) / (t - self._last.t))
                 out.append(Posture(tick, self._last.vector + w * (vector - self._last.vector)))
             self._next += self.period
         self._last = now

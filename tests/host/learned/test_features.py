@@ -60,3 +60,16 @@ def test_a_performer_who_walks_is_followed_from_rest_to_rest():
     errors = torso_errors(script)
     after = np.array([e for t, e in errors if t > 15.0])  # gesturing again after the rest there
     assert np.abs(after).max() < 30.0
+
+
+def test_a_tick_falls_on_the_sample_whose_timestamp_was_rounded_just_before_it():
+    """30 Hz samples stamped to the millisecond (0.133 for 4/30 s): each 15 Hz posture comes with the
+    sample it falls on, not one sample (33 ms) later."""
+    stream, late = PostureStream(mirrored=True), []
+    place = {side: tuple(at_rest(np.zeros(3), side)) for side in HANGING}
+    for k in range(90):
+        t = round(k / RATE, 3)
+        hands = [Hand(i, HandState.TRACKING, place[side], side) for i, side in enumerate(place, 1)]
+        late += [round(t - p.t, 4) for p in stream.update(t, hands, {"torso": (0.0, 0.0, 0.0), "head": (0.0, SIZE, 0.0)})
+                 if t - p.t > 1e-3]
+    assert late == []
