@@ -237,9 +237,10 @@ def _delays(pairs: list[tuple[Recording, Outcome]], gesture: str) -> dict | None
 
 #: The thresholds chosen by comparing candidate values on these recordings (the others follow from
 #: physical reasoning): leave one person out makes this choice again without each person.
-#: (raise_still_s 0, a raise needing no stop at all, was never chosen; a hand that never stops is raise_hold_s's.)
+#: (raise_still_s 0, a raise needing no stop at all, was never chosen; a hand that never stops is raise_hold_s's.
+#: swipe_level_dominance 2 lets a child's arm swinging down and back while running sweep out as a swipe.)
 CHOICES: dict[str, list] = {"raise_still_s": [0.06, 0.1], "raise_hold_s": [0.5, 0.7, 1.0],
-                            "swipe_confirm_s": [0.05, 0.12, 0.25]}
+                            "swipe_confirm_s": [0.05, 0.12, 0.25], "swipe_level_dominance": [2.0, 5.0]}
 
 
 def _score(recordings: list[Recording], outcomes: list[Outcome]) -> float:
