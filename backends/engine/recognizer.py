@@ -385,13 +385,13 @@ class _Hand:
         across the body, brings the hand back towards the body's plane as it goes, up to as far as it
         sweeps across. Depth forwards (-z, towards the camera), back beyond that, or behind the torso's
         plane still counts."""
-        d = core.end.p - core.start.p
-        if (core.axis != X or core.travel < self.r.swipe_level_dominance * -float(d[Y])
+        rise = core.rise
+        if (core.axis != X or core.travel < self.r.swipe_level_dominance * -rise
                 or core.lowest < self.r.active_min_height_mm):
             return core.dominance
-        back = float(d[Z])
+        back = float(core.end.p[Z] - core.start.p[Z])
         depth = max(back - core.travel, float(core.end.p[Z]), 0.0) if back > 0 else -back
-        return core.travel / max(abs(float(d[Y])), depth, 1.0)
+        return core.travel / max(abs(rise), depth, 1.0)
 
     def raised(self, stroke: Stroke, lowest: float) -> bool:
         """Is the hand up from rest throughout the stroke? Above the rest line; or, sweeping sideways,

@@ -285,6 +285,23 @@ def whole_arm_wave(swings: int = 3, opening: tuple[float, float, float] = (450.0
     return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: arm}, right.end + 0.5)
 
 
+def swung(path: Callable[[float], tuple[float, float, float]], seconds: float = 0.45) -> Performance:
+    """The right hand held at `path(0)`, then along `path(f)` (f the min-jerk fraction of the way) to
+    `path(1)` in `seconds`, and held there; the left hand at rest."""
+    def right(t: float) -> np.ndarray:
+        return np.array(path(float(min_jerk(np.array((t - 0.5) / seconds)))), float)
+    return Performance({Side.LEFT: rest(Side.LEFT), Side.RIGHT: right}, 0.5 + seconds + 1.0)
+
+
+def about_the_shoulder(to_deg: float, drop: float = 0.0) -> Callable[[float], tuple[float, float, float]]:
+    """The straight arm swung about its shoulder (200 mm right of the spine, at arm's length, 600 mm) from
+    straight ahead to `to_deg` at the fraction f of the way, the hand falling `drop` mm meanwhile."""
+    def at(f: float) -> tuple[float, float, float]:
+        a = np.radians(to_deg * f)
+        return (200.0 + 600.0 * np.sin(a), 150.0 - drop * f, -600.0 * np.cos(a))
+    return at
+
+
 def push(pushes: int = 1, travel: float = 400.0, pause: float = 0.4, seconds: float = 0.25) -> Performance:
     """Both hands up in front of the shoulders, pushed forward `travel` mm in `seconds` and back."""
     hands = {}

@@ -1,7 +1,7 @@
 """The gesture recogniser on synthetic performances described physically (mm, s)."""
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 import pytest
@@ -322,36 +322,16 @@ def test_a_whole_arm_swing_up_across_that_loops_up_at_its_turn_waits_for_the_swi
     assert played(at_30_hz(WHOLE_ARM_SWINGS[:14] + WHOLE_ARM_SWINGS[13:14] * 20)) == ["swipe_left"]
 
 
-Point = tuple[float, float, float]
-
-
-def swung(path: Callable[[float], Point]) -> list[tuple[float, Point]]:
-    """The right hand held straight out in front (`path(0)`), then along `path(e)` to `path(1)` in 0.45 s at
-    30 Hz, easing in and out, and held there."""
-    frames = 14
-    swing = [path((1 - np.cos(np.pi * i / frames)) / 2) for i in range(1, frames + 1)]
-    return [(i / 30, p) for i, p in enumerate([path(0.0)] * 15 + swing + swing[-1:] * 30)]
-
-
-def about_the_shoulder(to_deg: float, drop_mm: float = 0.0) -> Callable[[float], Point]:
-    """The straight arm swung about its shoulder (200 mm right of the spine, at arm's length, 600 mm) from
-    straight ahead to `to_deg`, the hand falling `drop_mm` on the way."""
-    def at(e: float) -> Point:
-        a = np.radians(to_deg * e)
-        return (200.0 + 600.0 * np.sin(a), 150.0 - drop_mm * e, -600.0 * np.cos(a))
-    return at
-
-
 def test_an_arm_swung_out_about_its_shoulder_is_a_swipe_though_its_hand_comes_back_as_far():
     """Level, the arc from straight ahead to the side brings the hand back towards the body about as far as
     it goes across (490 of 590 mm at 80 degrees: MSRC-12 p03's and p05's "push right"): that is the swing's
     shape, not a diagonal; so it is rising into the sweep (UTD-MHAD s4's swipe across, seen 0.7 m further off).
     Falling as it goes (an arm swinging down and out), or drawn back behind the body (MSRC-12 p04's wind-up
     to throw: 460 mm out, 620 mm back, ending 340 mm behind the torso), it is no swipe."""
-    assert played(swung(about_the_shoulder(80.0))) == ["swipe_right"]
-    assert played(swung(about_the_shoulder(80.0, drop_mm=-170.0))) == ["swipe_right"]
-    assert played(swung(about_the_shoulder(80.0, drop_mm=250.0))) == []
-    assert played(swung(lambda e: (60.0 + 460.0 * e, 150.0 - 80.0 * e, -280.0 + 620.0 * e))) == []
+    assert completed(perform(c.swung(c.about_the_shoulder(80.0)))) == ["swipe_right"]
+    assert completed(perform(c.swung(c.about_the_shoulder(80.0, drop=-170.0)))) == ["swipe_right"]
+    assert completed(perform(c.swung(c.about_the_shoulder(80.0, drop=250.0)))) == []
+    assert completed(perform(c.swung(lambda f: (60.0 + 460.0 * f, 150.0 - 80.0 * f, -280.0 + 620.0 * f)))) == []
 
 
 def test_hands_jiggling_at_the_eyes_are_no_wave():
