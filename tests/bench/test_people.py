@@ -27,3 +27,17 @@ def test_the_plot_has_a_panel_per_dataset_and_section(tmp_path):
     plot_people(out, path)
     two = matplotlib.image.imread(path)
     assert two.shape[0] > 1.8 * one.shape[0] and two.shape[1] == one.shape[1]
+
+
+def test_a_choice_that_fires_another_gesture_besides_the_right_one_scores_lower():
+    """Leave one person out chooses by recall less false fires less confusions: the same recall with a
+    swipe that also fires a swipe back is the worse choice (a wrong effect on stage)."""
+    from bench.people import Outcome, Recording, _score
+
+    recordings = [Recording("a.csv", "kinder", "p1", "swipe_left", group="children"),
+                  Recording("b.csv", "kinder", "p1", None, negative=True, group="children")]
+    clean = [Outcome(hits=[True]), Outcome(negatives=[False])]
+    confused = [Outcome(hits=[True], confused=True), Outcome(negatives=[False])]
+    fired = [Outcome(hits=[True]), Outcome(negatives=[True])]
+    assert _score(recordings, clean) == 1.0
+    assert _score(recordings, confused) == _score(recordings, fired) == 0.0
