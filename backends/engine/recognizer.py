@@ -18,7 +18,7 @@ matched against the rules (rules.py):
   in front (`swept_up_across`). A reversal of a frame or two is a tracker's glitch: the strokes
   either side of it are one. If the hand leaves the view meanwhile, the swipe completes, except a
   swipe down: a hand lost after a stroke down went back to rest (a swipe down waits while its hand
-  is unseen).
+  is unseen), as did one that goes on down to rest after a glitch cut its stroke short.
 - WAVE: several direction reversals of horizontal swings, from the wrist (4 cm) to the whole arm,
   each quick, reaching the shoulders' height or above (the first may be the arm swinging up
   into the wave from lower), with the other hand elsewhere (hands at the eyes or on the head, or
@@ -600,7 +600,8 @@ class _Hand:
         if self.cut_short(pending, current):
             return
         del self.tr.pending[axis]
-        self.confirm(pending)
+        if not self.dropped_on(pending, current):
+            self.confirm(pending)
 
     def glitched_back(self, pending: Stroke, back: Stroke) -> bool:
         """Was `back`, the stroke the hand turned straight into from `pending`, cut short at a swipe's speed
@@ -620,6 +621,15 @@ class _Hand:
         if current.direction == pending.direction:
             return current.duration <= self.r.stroke_min_reversal_s
         return jitter is not None and self.swipe_like(_merged(last, jitter, current))
+
+    def dropped_on(self, pending: Stroke, current: Stroke | None) -> bool:
+        """Did the hand, after a stroke down, turn back for a frame or two (a tracker's jitter, held back)
+        and then go on down to rest (below `active_min_height_mm`)? Then the strokes are one (`joined`), an
+        arm dropping to rest that the glitch cut short above the rest line, no swipe down."""
+        jitter = self.tr.jitter.get(pending.axis)
+        return (_drop(pending) and jitter is not None and jitter.start is pending.end and current is not None
+                and current.direction == pending.direction and current.start is jitter.end
+                and float(current.end.p[Y]) < self.r.active_min_height_mm)
 
     def above_chin(self, s: Sample) -> bool:
         """Is the hand higher than a swipe across the body ends (`swipe_across_max_above_shoulder_mm`), or at
