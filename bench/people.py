@@ -194,17 +194,17 @@ def _dataset_figures(ds: str, pairs: list[tuple[Recording, Outcome]]) -> dict:
     """One dataset's figures: recall (per group and person), false fires, the worst person, and
     what the dataset adds (UTD-MHAD and Kinder-Gator: confusion, another gesture besides the one
     expected; MSRC-12: extra detections and response times)."""
-    recall, by_person, ffr, confused = _by_group(pairs, sorted({r.group for r, _ in pairs}) if ds == "kinder"
-                                                 else ["all"])
+    grouped = ds == "kinder"  # adults and children apart
+    recall, by_person, ffr, confused = _by_group(pairs, sorted({r.group for r, _ in pairs}) if grouped else ["all"])
     person_all = defaultdict(list)
     for r, o in pairs:
         person_all[r.person] += o.hits
     fig = {"recall": recall, "worst_person_recall": {g: min(ps.values()) for g, ps in by_person.items()},
            "by_person": by_person,
-           "false_fire_rate": ffr if ds == "kinder" else ffr["all"],
+           "false_fire_rate": ffr if grouped else ffr["all"],
            "worst_person_overall": min(_rate(h) for h in person_all.values() if h)}
     if ds != "msrc":  # one gesture per recording: another one besides it is a confusion
-        fig["confusion_rate"] = confused if ds == "kinder" else confused["all"]
+        fig["confusion_rate"] = confused if grouped else confused["all"]
     else:
         fig["extra"] = {g: sum(o.extra for r, o in pairs if r.label == g) for g in STREAM_POSITIVE.values()}
         fig["delay_s"] = {g: _delays(pairs, g) for g in STREAM_POSITIVE.values()}

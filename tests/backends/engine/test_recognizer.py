@@ -688,9 +688,10 @@ def test_speeds_are_not_measured_across_frames_missing_from_a_run():
                          ids=["to-rest", "to-the-belly"])
 def test_an_arm_dropped_to_rest_is_no_swipe_down_though_a_glitch_cuts_it_short_above_the_rest_line(down_to, swipes):
     """Kinder-Gator adult p565 lowered the hand from above the head: on the way down, at 116 mm above the
-    torso, the skeleton's hand jumped back up 118 mm for two frames, then went on down to hang. The
-    glitch cut the drop short above the rest line, a swipe down on its own; the whole drop ends at rest
-    and is none. A swipe down that stops at the belly stays a swipe down, glitch or not."""
+    torso, the skeleton's hand jumped back up 118 mm for two frames, then went on down to hang (here: one
+    frame 250 mm above the drop's path). The glitch cut the drop short above the rest line, a swipe down
+    on its own; the whole drop ends at rest and is none. A swipe down that stops at the belly stays a
+    swipe down, glitch or not."""
     right = c.rest(Side.RIGHT).hold(0.3).then(0.6, (250.0, 600.0, -350.0)).hold(0.5).then(0.5, down_to).hold(0.6)
     drop = c.Performance({Side.LEFT: c.rest(Side.LEFT), Side.RIGHT: right}, right.end)
     mid_drop = right.keys[3][0] + 0.25  # the hand on its way down fast, above the rest line
