@@ -75,6 +75,13 @@ def _drop(stroke: Stroke) -> bool:
     return stroke.axis == Y and stroke.direction < 0
 
 
+def _around(jitter: Stroke | None, before: Stroke | None, after: Stroke | None) -> bool:
+    """Is `jitter` a reversal held back between `before` and `after`, which go the same way (so that the
+    three may be one stroke, `_HandTrack.joined`)?"""
+    return (jitter is not None and before is not None and after is not None and before.direction == after.direction
+            and before.end is jitter.start and jitter.end is after.start)
+
+
 def _continues(chain: list[Stroke], stroke: Stroke, max_gap_s: float) -> bool:
     """Does `stroke` go back the other way from the last of `chain`, starting within `max_gap_s` of its end?"""
     return bool(chain) and chain[-1].direction == -stroke.direction and stroke.start.t - chain[-1].end.t <= max_gap_s
@@ -156,8 +163,7 @@ class _HandTrack:
             return []
         before = self.last.get(axis)
         self.last[axis] = stroke
-        if (jitter is None or before is None or before.direction != stroke.direction
-                or before.end is not jitter.start or jitter.end is not stroke.start):
+        if not _around(jitter, before, stroke):
             return [stroke]
         if (jitter.travel >= self.rules.oscillation_min_travel_mm and stroke.direction * float(
                 stroke.end.p[axis] - before.end.p[axis]) < self.rules.stroke_hysteresis_mm):
@@ -626,9 +632,7 @@ class _Hand:
         """Did the hand, after a stroke down, turn back for a frame or two (a tracker's jitter, held back)
         and then go on down to rest (below `active_min_height_mm`)? Then the strokes are one (`joined`), an
         arm dropping to rest that the glitch cut short above the rest line, no swipe down."""
-        jitter = self.tr.jitter.get(pending.axis)
-        return (_drop(pending) and jitter is not None and jitter.start is pending.end and current is not None
-                and current.direction == pending.direction and current.start is jitter.end
+        return (_drop(pending) and _around(self.tr.jitter.get(pending.axis), pending, current)
                 and float(current.end.p[Y]) < self.r.active_min_height_mm)
 
     def above_chin(self, s: Sample) -> bool:

@@ -683,7 +683,6 @@ def test_speeds_are_not_measured_across_frames_missing_from_a_run():
     assert played((t, (150.0, 300.0, z)) for t, z in still + push) == ["click"]
 
 
-
 @pytest.mark.parametrize("down_to, swipes", [(c.REST[Side.RIGHT], False), ((200.0, -130.0, -300.0), True)],
                          ids=["to-rest", "to-the-belly"])
 def test_an_arm_dropped_to_rest_is_no_swipe_down_though_a_glitch_cuts_it_short_above_the_rest_line(down_to, swipes):
