@@ -5,7 +5,8 @@ swapped at a tick boundary on the show thread, where the GL context lives. Four 
 compares the watched files' modification times and sizes (a few stat calls); on a change it
 re-imports the changed effect modules, re-validates the profile, sets up the new effects and
 only then swaps them in. Anything that fails on the way (a syntax error, a bad profile value,
-a raising `setup`) is reported in one line and the previous version keeps running.
+a raising `setup`) is reported in one line and the previous version keeps running. An empty profile
+is one being saved (truncated, not yet written) and waits for the next check.
 
 Backend, source and output are chosen when the show starts: changing them waits for the next
 start (a backend or source edit says so). Effects whose class and options did not change keep
@@ -110,7 +111,10 @@ class Reloader:
         self.interval = interval
         self.say = say or (lambda line: print(line, file=sys.stderr, flush=True))
         self._next = 0.0
-        self._watched: dict[Path, Signature] = {}
+        self._watched: list[Path] = []
+        # the signature of each file as last loaded, kept when it leaves the watch (an effect taken out of
+        # the profile): put back in, an edit made to its source meanwhile is still a change
+        self._loaded: dict[Path, Signature] = {}
         self._groups: dict[Path, str] = {}
         self._watch(profile)
 
@@ -125,19 +129,22 @@ class Reloader:
             for module in group_modules(group):
                 files[Path(module.__file__).resolve()] = group
         self._groups = files
-        wanted = [profile.path.resolve(), *files]
-        self._watched = {p: self._watched.get(p, signature(p)) for p in wanted}
+        self._watched = [profile.path.resolve(), *files]
+        for path in self._watched:
+            self._loaded.setdefault(path, signature(path))
 
     def __call__(self, show: Any) -> None:
         now = time.monotonic()
         if now < self._next:
             return
         self._next = now + self.interval
-        changed = {p for p, sig in self._watched.items() if signature(p) != sig}
-        if not changed:
-            return
+        now_seen = {p: signature(p) for p in self._watched}
+        changed = {p for p, sig in now_seen.items() if sig != self._loaded[p]}
+        profile_now = now_seen[self._watched[0]]
+        if not changed or (profile_now is not None and profile_now[1] == 0):
+            return  # an empty profile is one being saved (truncated, not yet written): no show to load
         for path in changed:  # a broken edit is tried once; the next save tries again
-            self._watched[path] = signature(path)
+            self._loaded[path] = now_seen[path]
         try:
             self.reload(show, changed)
         except ProfileError as error:

@@ -5,7 +5,10 @@ import signal
 import subprocess
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
+
+import pytest
 
 from tests.conftest import write_clip
 
@@ -126,9 +129,24 @@ def test_no_reload_flag_ignores_edits(tmp_path):
         show.wait(timeout=20)
 
 
-def test_an_effect_package_reloads_whole_and_unchanged_effects_keep_their_state(tmp_path, monkeypatch):
-    """In-process: editing a submodule of an effect's package rebuilds the effect; a broken edit
-    restores every module as it was; a profile edit elsewhere keeps the running instance."""
+@dataclass
+class InProcess:
+    """A show run in this process with an effect package `probe_pkg` (effect.py reading WORD from
+    words.py) and its reloader checking at every call."""
+
+    path: Path  # the profile
+    words: Path
+    show: object
+    reloader: object
+    said: list[str]
+
+
+PROBE_ONLY = 'backend = "idle"\n[[effects]]\nname = "probe"\n'
+PROBE_AND_CONSOLE = PROBE_ONLY + '[[effects]]\nname = "console"\n'
+
+
+@pytest.fixture
+def in_process(tmp_path, monkeypatch):
     from effects.console import ConsoleEffect
     from host import Backend, Stage
     from host.assemble import make_effects
@@ -156,29 +174,63 @@ def test_an_effect_package_reloads_whole_and_unchanged_effects_keep_their_state(
         for kind, cls in (("effects", probe_pkg.Probe), ("effects", ConsoleEffect), ("backends", Idle)):
             registry.register(kind, cls, "test")
         path = tmp_path / "show.toml"
-        path.write_text('backend = "idle"\n[[effects]]\nname = "probe"\n')
+        path.write_text(PROBE_ONLY)
         profile = load(path, registry)
         show = Show(Idle(), make_effects(profile), Stage((64, 48), 30.0, "idle"))
         show.effects[0].effect.setup(show.stage)
         said = []
-        reloader = Reloader(profile, registry, interval=0.0, say=said.append)
-
-        words.write_text('WORD = "two!"\n')
-        reloader(show)
-        assert show.effects[0].effect.word == "two!", said
-        assert registry.get("effects", "probe").cls is sys.modules["probe_pkg.effect"].Probe
-
-        words.write_text("WORD = (\n")
-        reloader(show)
-        assert show.effects[0].effect.word == "two!"
-        assert sys.modules["probe_pkg.words"].WORD == "two!"  # put back as it was
-        assert "SyntaxError" in said[-1] and "words.py" in said[-1] and "\n" not in said[-1]
-
-        running = show.effects[0].effect
-        path.write_text('backend = "idle"\n[[effects]]\nname = "probe"\n[[effects]]\nname = "console"\n')
-        reloader(show)
-        assert show.effects[0].effect is running and [s.effect.name for s in show.effects] == ["probe", "console"]
-        assert said[-1] == "issv: reloaded show.toml: 1 effect(s) rebuilt, 1 kept"
+        yield InProcess(path, words, show, Reloader(profile, registry, interval=0.0, say=said.append), said)
     finally:
         for name in [n for n in sys.modules if n.startswith("probe_pkg")]:
             del sys.modules[name]
+
+
+def test_an_effect_package_reloads_whole_and_unchanged_effects_keep_their_state(in_process):
+    """In-process: editing a submodule of an effect's package rebuilds the effect; a broken edit
+    restores every module as it was; a profile edit elsewhere keeps the running instance."""
+    run, show, words, said = in_process, in_process.show, in_process.words, in_process.said
+    words.write_text('WORD = "two!"\n')
+    run.reloader(show)
+    assert show.effects[0].effect.word == "two!", said
+    assert run.reloader.registry.get("effects", "probe").cls is sys.modules["probe_pkg.effect"].Probe
+
+    words.write_text("WORD = (\n")
+    run.reloader(show)
+    assert show.effects[0].effect.word == "two!"
+    assert sys.modules["probe_pkg.words"].WORD == "two!"  # put back as it was
+    assert "SyntaxError" in said[-1] and "words.py" in said[-1] and "\n" not in said[-1]
+
+    running = show.effects[0].effect
+    run.path.write_text(PROBE_AND_CONSOLE)
+    run.reloader(show)
+    assert show.effects[0].effect is running and [s.effect.name for s in show.effects] == ["probe", "console"]
+    assert said[-1] == "issv: reloaded show.toml: 1 effect(s) rebuilt, 1 kept"
+
+
+def test_an_effect_put_back_in_the_profile_runs_its_source_as_edited_meanwhile(in_process):
+    """CI caught it: the profile, read as it was being saved, had no effects for a moment, so the
+    effect's source left the watch; edited then, the edit was taken as already loaded and the
+    show kept the old code for good."""
+    run, show = in_process, in_process.show
+    run.path.write_text('backend = "idle"\n[[effects]]\nname = "console"\n')  # the probe taken out
+    run.reloader(show)
+    run.words.write_text('WORD = "edited while out"\n')
+    run.reloader(show)
+    run.path.write_text(PROBE_ONLY)  # put back: the old code first, then the edit
+    run.reloader(show)
+    run.reloader(show)
+    assert [s.effect.name for s in show.effects] == ["probe"]
+    assert show.effects[0].effect.word == "edited while out", run.said
+
+
+def test_a_profile_emptied_as_an_editor_saves_it_is_not_loaded(in_process):
+    """Saving truncates the file before writing it: an empty profile is no show (it would take every
+    effect off stage); the saved one is loaded at the next check."""
+    run, show = in_process, in_process.show
+    running = show.effects[0].effect
+    run.path.write_text("")
+    run.reloader(show)
+    assert show.effects[0].effect is running and run.said == []
+    run.path.write_text(PROBE_AND_CONSOLE)
+    run.reloader(show)
+    assert [s.effect.name for s in show.effects] == ["probe", "console"]
