@@ -51,7 +51,10 @@ class GestureRules(BaseModel):
         "an adult, scaled to the performer's size, as their arms reach less far; up or down it stays an "
         "adult's: scaled, smaller performers reaching over the shoulder and back, MSRC-12's change weapon, "
         "fired swipes up and down)")
-    swipe_max_duration_s: float = Field(1.0, gt=0, description="a slower stroke is a reach, not a swipe")
+    swipe_max_duration_s: float = Field(
+        1.5, gt=0, description="a slower stroke (its core, as fast as `swipe_min_peak_speed_mm_s` at its peak) "
+        "is a reach, not a swipe; a sweep of a whole arm's span by a slow or tall performer takes longer than a "
+        "short one: MSRC-12 p02's 1 m push right lasts 0.85 s, 1.12 s played 1.4 times slower")
     swipe_min_peak_speed_mm_s: float = Field(
         1000.0, gt=0, description="peak speed along the swipe direction (a deliberate swipe peaks at 1.5-3 m/s)")
     swipe_low_min_height_mm: float = Field(
