@@ -486,8 +486,22 @@ class _Hand:
 
     def is_swipe(self, stroke: Stroke) -> bool:
         core = self.core(stroke)
-        return ((core.travel >= self.swipe_travel_mm(stroke) and self.swipe_like(stroke)) or self.swept_up_across(stroke)
-                ) and not self.mirrored_by_other_hand(core, along=True)
+        return ((core.travel >= self.swipe_travel_mm(stroke) and not self.brought_across(stroke) and self.swipe_like(stroke))
+                or self.swept_up_across(stroke)) and not self.mirrored_by_other_hand(core, along=True)
+
+    def across_from_hanging(self, stroke: Stroke) -> bool:
+        """Does the sideways `stroke` start from the hanging arm (below `active_min_height_mm`) and go
+        across the body, towards the other side?"""
+        return (stroke.axis == X and self.hand.side is not Side.UNKNOWN and stroke.direction != self.outwards()
+                and float(stroke.start.p[Y]) < self.r.active_min_height_mm)
+
+    def brought_across(self, stroke: Stroke) -> bool:
+        """Did the hand come across the body from hanging to stop near it, short of `swipe_across_min_reach_mm`
+        in front: to the other shoulder or the chest? However fast, that is no swipe (MSRC-12 p03 winds up
+        each push right so, and 15 % faster the wind-up passed a swipe's speed; p10 reaches for a weapon
+        over the shoulder so): a swipe rising across reaches out to the screen (`swept_up_across`)."""
+        return self.across_from_hanging(stroke) and -float(stroke.end.p[Z]) < (
+            self.r.swipe_across_min_reach_mm * self.rec.size(stroke.start))
 
     def swept_up_across(self, stroke: Stroke) -> bool:
         """A swipe across the body straight from the hanging arm: the hand, still at its side, rises across
@@ -499,10 +513,10 @@ class _Hand:
         pumping as the body runs were not still before. It waits for a stroke back, which wins if
         stronger: the rise wound it up (`wound_up`)."""
         r = self.r
-        if stroke.axis != X or self.hand.side is Side.UNKNOWN or stroke.direction == self.outwards():
+        if not self.across_from_hanging(stroke):
             return False
         start, end = stroke.start, stroke.end
-        if not (float(start.p[Y]) < r.active_min_height_mm <= float(end.p[Y]) and stroke.direction * float(end.p[X]) >= 0
+        if not (r.active_min_height_mm <= float(end.p[Y]) and stroke.direction * float(end.p[X]) >= 0
                 and -float(end.p[Z]) >= r.swipe_across_min_reach_mm * self.rec.size(start)
                 and stroke.travel >= self.swipe_travel_mm(stroke) and stroke.duration <= r.swipe_max_duration_s):
             return False  # the cheap tests first: this runs every frame a stroke is under way

@@ -163,12 +163,18 @@ def windup_swipe(windup: float = 250.0, start: tuple[float, float, float] = (150
 
 
 def rise_across(to: tuple[float, float, float] = (-220.0, 150.0, -420.0), seconds: float = 0.45,
-                back: float | None = None, pause: float = 0.1, back_s: float = 0.35) -> Performance:
+                back: float | None = None, pause: float = 0.1, back_s: float = 0.35,
+                lift: float | None = None) -> Performance:
     """The right hand, hanging still at its side, rises across the body in one diagonal to `to` (a swipe
     to the left across an imaginary screen, as Kinder-Gator's child p106 swipes), holds, drops
     back; or, `back` given, after `pause` s sweeps back flat to x = `back` in `back_s` s (a rise that
-    winds up a swipe back, as MSRC-12's push right and UTD-MHAD's subject 4 do)."""
-    right = rest(Side.RIGHT).hold(1.0).then(seconds, to)
+    winds up a swipe back, as MSRC-12's push right and UTD-MHAD's subject 4 do). With `lift`, the hand
+    first lifts at its side to that height (in 0.2 s, a little forward), then sweeps across."""
+    right = rest(Side.RIGHT).hold(1.0)
+    if lift is not None:
+        hanging = REST[Side.RIGHT]
+        right = right.then(0.2, (hanging[0] - 20.0, lift, hanging[2] - 40.0))
+    right = right.then(seconds, to)
     if back is not None:
         right = right.hold(pause).then(back_s, (back, to[1], to[2]))
     right = right.hold(0.5).then(0.8, REST[Side.RIGHT])
