@@ -500,8 +500,11 @@ class _Hand:
         in front: to the other shoulder or the chest? However fast, that is no swipe (MSRC-12 p03 winds up
         each push right so, and 15 % faster the wind-up passed a swipe's speed; p10 reaches for a weapon
         over the shoulder so): a swipe rising across reaches out to the screen (`swept_up_across`)."""
-        return self.across_from_hanging(stroke) and -float(stroke.end.p[Z]) < (
-            self.r.swipe_across_min_reach_mm * self.rec.size(stroke.start))
+        return self.across_from_hanging(stroke) and not self.out_in_front(stroke)
+
+    def out_in_front(self, stroke: Stroke) -> bool:
+        """Does the stroke end `swipe_across_min_reach_mm` or more in front of the torso (for the performer's size)?"""
+        return -float(stroke.end.p[Z]) >= self.r.swipe_across_min_reach_mm * self.rec.size(stroke.start)
 
     def swept_up_across(self, stroke: Stroke) -> bool:
         """A swipe across the body straight from the hanging arm: the hand, still at its side, rises across
@@ -517,7 +520,7 @@ class _Hand:
             return False
         start, end = stroke.start, stroke.end
         if not (r.active_min_height_mm <= float(end.p[Y]) and stroke.direction * float(end.p[X]) >= 0
-                and -float(end.p[Z]) >= r.swipe_across_min_reach_mm * self.rec.size(start)
+                and self.out_in_front(stroke)
                 and stroke.travel >= self.swipe_travel_mm(stroke) and stroke.duration <= r.swipe_max_duration_s):
             return False  # the cheap tests first: this runs every frame a stroke is under way
         core = self.core(stroke)
