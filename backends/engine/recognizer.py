@@ -496,11 +496,14 @@ class _Hand:
                 and float(stroke.start.p[Y]) < self.r.active_min_height_mm)
 
     def brought_across(self, stroke: Stroke) -> bool:
-        """Did the hand come across the body from hanging to stop near it, short of `swipe_across_min_reach_mm`
-        in front: to the other shoulder or the chest? However fast, that is no swipe (MSRC-12 p03 winds up
-        each push right so, and 15 % faster the wind-up passed a swipe's speed; p10 reaches for a weapon
-        over the shoulder so): a swipe rising across reaches out to the screen (`swept_up_across`)."""
-        return self.across_from_hanging(stroke) and not self.out_in_front(stroke)
+        """Did the hand come across the body from hanging to stop in front of the chest: below the shoulders
+        and short of `swipe_across_min_reach_mm` in front? However fast, that is no swipe (MSRC-12 p03 winds up
+        each push right so, ending 180-260 mm below the shoulders, and 15 % faster the wind-up passed a swipe's
+        speed; p10 changing weapon too): a swipe rising across reaches out to the screen (`swept_up_across`),
+        and one that sweeps up high across (UTD-MHAD subject 4's, ending 100 mm above the shoulders) is
+        judged as any other."""
+        end = stroke.end
+        return self.across_from_hanging(stroke) and float(end.p[Y]) < float(end.shoulder) and not self.out_in_front(stroke)
 
     def out_in_front(self, stroke: Stroke) -> bool:
         """Does the stroke end `swipe_across_min_reach_mm` or more in front of the torso (for the performer's size)?"""
