@@ -8,7 +8,8 @@ hand once seen again `confirm_s` later (at once when the sensor saw enough of a 
 hand missed for up to `hold_s` is still reported where it was last seen (longer, it is left out
 of the frame rather than reported where it was), and an arm has one hand: a candidate on the
 side of a hand in view and nearer the body than it (an elbow sticking out during a swipe) is
-not a new hand.
+not a new hand, nor is a piece cut off from a tracked arm next to its hand (a whole arm swinging
+across the face shows as two loose pieces, the one left over on the far side of the spine).
 """
 from __future__ import annotations
 
@@ -47,7 +48,8 @@ class TrackerOptions(BaseModel):
     loose_hand_mm: float = Field(250, ge=0, description=(
         "a hand seen apart from its arm (no depth-continuous join to the body: a whole arm swinging across "
         "the face) within this of a tracked hand's find and farther out is that hand, the find nearer the "
-        "body its forearm: a forearm's length"))
+        "body its forearm: a forearm's length. Any other loose find this close to a tracked hand is another "
+        "piece of that arm, no new hand"))
     match_max_gap_s: float = Field(0.1, gt=0, description="the gate stops growing after this long unseen: "
                                    "a hand that reappears far away is a new hand")
     other_arm_mm: float = Field(100, ge=0, description=(
@@ -180,6 +182,9 @@ class HandTracker:
         o = self.options
         out: list[Hand] = []
         for cand in free:
+            if cand.loose and any(np.linalg.norm(cand.position - m.position) <= o.loose_hand_mm
+                                  for m in matched.values()):
+                continue  # another piece of a tracked arm seen apart from the body (crossing the face)
             side = self._side_of(cand, torso, mirrored)
             same = [tr for tr in self._tracks if tr.side is side and side is not Side.UNKNOWN]
             in_view = [tr for tr in same if t - tr.seen <= o.hold_s]

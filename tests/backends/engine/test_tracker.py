@@ -290,3 +290,27 @@ def test_a_hand_seen_apart_from_its_arm_and_farther_out_is_the_tracked_hand_not_
     assert [h.id for h in after] == [first[0].id] and after[0].position[0] < first[0].position[0] - 50
     _, after = frame(loose=False)
     assert len(after) == 2
+
+
+def test_a_piece_cut_off_from_a_tracked_arm_next_to_its_hand_is_no_second_hand():
+    """A whole arm swinging across the face at the turn of a wave: the depth shows it in two loose
+    pieces (joined to the body nowhere without a depth jump) as far out as each other, on the far side
+    of the spine. The hand keeps its id on one; the other is not the other arm's hand. UTD-MHAD subject
+    4's waves, seen 0.7 m farther away or at 0.85x size, gave a phantom left hand there for a few frames:
+    too close to the waving hand for its swing to count, and it swiped right itself. Joined to the body
+    there, the same find is the other arm's hand."""
+    def second_piece(loose: bool) -> tuple:
+        tracker = HandTracker()
+        torso, shoulder = np.array([0.0, 0.0, 2100.0]), np.array([150.0, 300.0, 2000.0])
+        found = np.array([-150.0, 300.0, 2000.0])
+        first = tracker._update_tracks(0.0, [Candidate(found, 420.0, False, shoulder, 1.0)], torso, True)
+        hand = found + np.array([-30.0, 0.0, 0.0])
+        forearm = found + np.array([110.0, -10.0, 0.0])
+        pieces = [Candidate(hand, 425.0, False, hand, 1.0, loose=True),
+                  Candidate(forearm, 425.0, False, forearm if loose else np.array([-150.0, 300.0, 2000.0]), 1.0,
+                            loose=loose)]
+        return first, tracker._update_tracks(1 / 30, pieces, torso, True)
+    first, after = second_piece(loose=True)
+    assert [h.id for h in after] == [first[0].id]
+    _, after = second_piece(loose=False)
+    assert sorted(h.side for h in after) == sorted([Side.RIGHT, Side.LEFT])
