@@ -175,6 +175,7 @@ class HandTracker:
             self._tracks.remove(track)  # a candidate seen once and not again: noise, never reported
 
     def _move(self, t: float, track: _Track, cand: Candidate) -> None:
+        """The track's hand found at `cand` now."""
         o = self.options
         track.seen, track.at_border, track.confidence = t, cand.at_border, cand.confidence
         track.reach, track.found = cand.reach, cand.position
@@ -184,7 +185,8 @@ class HandTracker:
     def _admit(self, t: float, free: list[Candidate], matched: dict[_Track, Candidate],
                torso: np.ndarray | None, mirrored: bool) -> list[Hand]:
         """New tracks for the unmatched candidates (farthest reach first) that are hands, not
-        another part of an arm in view; the LOST hands of the tracks they replace."""
+        another part of an arm in view nor a held hand's own find beyond the gate (that hand moves
+        there and counts as matched); the LOST hands of the tracks they replace."""
         o = self.options
         out: list[Hand] = []
         for cand in free:
