@@ -889,8 +889,7 @@ class _Hand:
     def arms_swinging(self, stroke: Stroke, together: bool = False) -> bool:
         """Did another hand swing back as this one came forward (running, walking)? With `together`,
         did it rise forward with it from hanging at the side (squatting, jumping; or pushing a button
-        with both hands)? A depth tracker finds a hand only once it leaves the body's outline: one first
-        found during the push, already out in front, rose with it unseen."""
+        with both hands)?"""
         core = self.core(stroke)
         ratio = self.r.swipe_comparable_ratio
         advance = float(core.start.p[Z] - core.end.p[Z])  # how far this hand came forward
@@ -902,8 +901,7 @@ class _Hand:
                 continue
             forward, up = during[0].p[Z] - during[-1].p[Z], during[-1].p[Y] - during[0].p[Y]
             if together:
-                unseen_rise = during[0].seen_since >= core.start.t and -float(during[-1].p[Z]) >= ratio * advance
-                if hanging and (forward >= ratio * advance and up >= ratio * advance or unseen_rise):
+                if hanging and forward >= ratio * advance and up >= ratio * advance:
                     return True
             elif forward <= -ratio * advance:
                 return True

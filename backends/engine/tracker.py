@@ -9,8 +9,7 @@ hand missed for up to `hold_s` is still reported where it was last seen (longer,
 of the frame rather than reported where it was), and an arm has one hand: a candidate on the
 side of a hand in view and nearer the body than it (an elbow sticking out during a swipe) is
 not a new hand, nor is a piece cut off from a tracked arm next to its hand (a whole arm swinging
-across the face shows as two loose pieces, the one left over on the far side of the spine); found
-farther out while unseen, beyond the gate, it is the same hand swung fast.
+across the face shows as two loose pieces, the one left over on the far side of the spine).
 """
 from __future__ import annotations
 
@@ -36,9 +35,7 @@ class TrackerOptions(BaseModel):
 
     model_config = ConfigDict(extra="forbid")
     lost_timeout_s: float = Field(0.5, ge=0, description="a hand unseen this long is LOST; seen again sooner, it keeps its id")
-    max_speed_mm_s: float = Field(5000, gt=0, description=(
-        "fastest plausible hand: gates matching across frames (a hand found beyond it, farther out on the "
-        "side of a hand held unseen, is that hand: a whole arm's wave flicks it faster)"))
+    max_speed_mm_s: float = Field(5000, gt=0, description="fastest plausible hand: gates matching across frames")
     match_slack_mm: float = Field(150, ge=0, description="matching distance allowed on top of max speed * dt")
     confirm_s: float = Field(0.03, ge=0, description=(
         "a new candidate becomes a hand when seen again this much later (one frame at 30 fps): "
@@ -169,24 +166,19 @@ class HandTracker:
 
     def _follow(self, t: float, matched: dict[_Track, Candidate]) -> None:
         """Move the matched tracks to their candidates; a track seen once and not again is noise."""
+        o = self.options
         for track, cand in matched.items():
-            self._move(t, track, cand)
+            track.seen, track.at_border, track.confidence = t, cand.at_border, cand.confidence
+            track.reach, track.found = cand.reach, cand.position
+            track.position = track.filter(t, cand.position) + o.predict_s * track.filter.velocity
+            track.confirmed = track.confirmed or t - track.born >= o.confirm_s
         for track in [tr for tr in self._tracks if not tr.confirmed and tr not in matched]:
             self._tracks.remove(track)  # a candidate seen once and not again: noise, never reported
-
-    def _move(self, t: float, track: _Track, cand: Candidate) -> None:
-        """The track's hand found at `cand` now."""
-        o = self.options
-        track.seen, track.at_border, track.confidence = t, cand.at_border, cand.confidence
-        track.reach, track.found = cand.reach, cand.position
-        track.position = track.filter(t, cand.position) + o.predict_s * track.filter.velocity
-        track.confirmed = track.confirmed or t - track.born >= o.confirm_s
 
     def _admit(self, t: float, free: list[Candidate], matched: dict[_Track, Candidate],
                torso: np.ndarray | None, mirrored: bool) -> list[Hand]:
         """New tracks for the unmatched candidates (farthest reach first) that are hands, not
-        another part of an arm in view nor a held hand's own find beyond the gate (that hand moves
-        there and counts as matched); the LOST hands of the tracks they replace."""
+        another part of an arm in view; the LOST hands of the tracks they replace."""
         o = self.options
         out: list[Hand] = []
         for cand in free:
@@ -198,11 +190,6 @@ class HandTracker:
             in_view = [tr for tr in same if t - tr.seen <= o.hold_s]
             if any(cand.reach <= tr.reach for tr in in_view):
                 continue  # on the side of a hand in view, nearer the body: another part of that arm
-            missed = [tr for tr in in_view if tr not in matched and tr.confirmed]
-            if missed:  # farther out on the side of a hand held unseen: that arm's hand, swung beyond the gate
-                self._move(t, missed[0], cand)
-                matched[missed[0]] = cand
-                continue
             for old in same:  # that side's hand, out of sight for a while, is found elsewhere: a new hand
                 if old not in in_view:
                     out.extend(self._drop(old))
