@@ -160,7 +160,9 @@ class HandTracker:
         ended tracks LOST), sorted by id."""
         matched = self._farthest_out(t, self._match(t, found, torso, mirrored), found)
         self._follow(t, matched)
-        out = self._admit(t, [c for c in found if c not in matched.values()], matched, torso, mirrored)
+        taken = list(matched.values())  # a piece of a tracked arm left over is no new hand
+        free = [c for c in found if c not in taken and not any(self._piece_of(c, m) for m in taken)]
+        out = self._admit(t, free, matched, torso, mirrored)
         out += self._report(t)
         return tuple(sorted(out, key=lambda h: h.id))
 
@@ -182,9 +184,6 @@ class HandTracker:
         o = self.options
         out: list[Hand] = []
         for cand in free:
-            if cand.loose and any(np.linalg.norm(cand.position - m.position) <= o.loose_hand_mm
-                                  for m in matched.values()):
-                continue  # another piece of a tracked arm seen apart from the body (crossing the face)
             side = self._side_of(cand, torso, mirrored)
             same = [tr for tr in self._tracks if tr.side is side and side is not Side.UNKNOWN]
             in_view = [tr for tr in same if t - tr.seen <= o.hold_s]
@@ -265,14 +264,17 @@ class HandTracker:
         """The matches, each track moved on to a loose candidate left over that lies within its gate, a
         forearm from the candidate it matched and farther out: a whole arm swinging across the face can
         show its hand apart from the arm (taken for the other arm's) and the forearm nearer the last find."""
-        o = self.options
-        for c in [c for c in found if c.loose and c not in matched.values()]:
+        for c in [c for c in found if c not in matched.values()]:
             for tr, m in matched.items():
-                if (c.reach > m.reach and np.linalg.norm(c.position - m.position) <= o.loose_hand_mm
-                        and self._distance(tr, c) <= self._gate(t, tr)):
+                if c.reach > m.reach and self._piece_of(c, m) and self._distance(tr, c) <= self._gate(t, tr):
                     matched[tr] = c
                     break
         return matched
+
+    def _piece_of(self, cand: Candidate, hand: Candidate) -> bool:
+        """Is `cand` a piece of the arm whose hand was found at `hand`: seen apart from the body (loose)
+        within a forearm's length (`loose_hand_mm`) of it? A whole arm swinging across the face shows so."""
+        return cand.loose and float(np.linalg.norm(cand.position - hand.position)) <= self.options.loose_hand_mm
 
     def _birth(self, t: float, cand: Candidate, side: Side) -> _Track:
         track = _Track(next(self._ids), side, OneEuroFilter(self.options.smoothing), cand.position, cand.position,
