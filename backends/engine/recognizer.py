@@ -35,7 +35,8 @@ Distance thresholds are stated for an adult and scale with the performer's size 
 head distance), so a child's smaller swipe across is still a swipe (swipes up and down keep an
 adult's travel).
 Swipes and waves are one hand's: another hand making the mirror motion at the same time (a
-clap) cancels them.
+clap) cancels them. An arm has one hand: a new hand on the side of one lost from view just now is
+that hand found again (a depth tracker outrun by a flick), going on from its strokes after a gap.
 
 Each gesture is reported IN_PROGRESS (at most once per attempt) when it is recognisably under
 way (a swipe: once its stroke has ended and waits for confirmation; a wave: one reversal before
@@ -177,11 +178,14 @@ class _HandTrack:
         self.last[axis] = merged
         return [merged]
 
-    def sample(self, t: float, p: np.ndarray, shoulder: float, face: np.ndarray, world: Vec3, body_vy: float) -> Sample:
-        """The new sample with its velocity over the speed window, kept in a short history."""
+    def sample(self, t: float, p: np.ndarray, shoulder: float, face: np.ndarray, world: Vec3, body_vy: float,
+               after_gap: bool = False) -> Sample:
+        """The new sample with its velocity over the speed window, kept in a short history; `after_gap`:
+        the hand was found again where it could not be followed (as after `track_gap_s` unseen)."""
         window = self.rules.speed_window_s
         last = self.samples[-1] if self.samples else None
-        since = last.seen_since if last is not None and t - last.t <= self.rules.track_gap_s else t
+        joined = last is not None and t - last.t <= self.rules.track_gap_s and not after_gap
+        since = last.seen_since if joined else t
         ref = None
         for q in reversed(self.samples):
             if q.seen_since != since and ref is not None:
@@ -247,18 +251,33 @@ class GestureRecognizer:
                 _Hand(self, track, track.hand, t, mirrored, events, self._tracks).flush(gone=True)
         frame = self._body.update(t, {h.id: np.asarray(h.position, float) for h in live}, body or {})
         for h in live:
-            track = self._tracks.get(h.id)
+            track, refound = self._tracks.get(h.id), None
             if track is None:
-                track = self._tracks[h.id] = _HandTrack(self.rules, h)
+                refound = self._refound(h, t, live)
+                track = self._tracks[h.id] = refound or _HandTrack(self.rules, h)
             track.hand, track.last_seen = h, t
-            s = track.sample(t, np.asarray(h.position, float) - frame.torso,
-                             frame.shoulder_y - frame.torso[1], frame.head - frame.torso, h.position, frame.vy)
+            s = track.sample(t, np.asarray(h.position, float) - frame.torso, frame.shoulder_y - frame.torso[1],
+                             frame.head - frame.torso, h.position, frame.vy, after_gap=refound is not None)
             _Hand(self, track, h, t, mirrored, events, self._tracks).step(s)
         seen = {h.id for h in live}
         for hid, track in self._tracks.items():
             if hid not in seen:  # unseen this frame: its pending swipes still come due
                 _Hand(self, track, track.hand, t, mirrored, events, self._tracks).resolve_all(in_view=False)
         return events
+
+    def _refound(self, hand: Hand, t: float, live: Sequence[Hand]) -> _HandTrack | None:
+        """The track of the hand that a new hand is: one on the same side, unseen now, seen within
+        `track_gap_s`. An arm has one hand: a tracker that could not follow it (a whole arm flicking
+        faster than its gate) finds it again as a new hand. It goes on after a gap: where it was
+        meanwhile is unknown, so the jump is no motion (a wave's swing is counted; no swipe up or down
+        spans it)."""
+        if hand.side is Side.UNKNOWN:
+            return None
+        seen = {h.id for h in live}
+        for hid, track in self._tracks.items():
+            if hid not in seen and track.hand.side is hand.side and t - track.last_seen <= self.rules.track_gap_s:
+                return self._tracks.pop(hid)
+        return None
 
     def finish(self) -> list[Gesture]:
         """The stream ended (a clip's last frame): swipes still waiting to be confirmed complete, as

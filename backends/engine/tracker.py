@@ -9,7 +9,9 @@ hand missed for up to `hold_s` is still reported where it was last seen (longer,
 of the frame rather than reported where it was), and an arm has one hand: a candidate on the
 side of a hand in view and nearer the body than it (an elbow sticking out during a swipe) is
 not a new hand, nor is a piece cut off from a tracked arm next to its hand (a whole arm swinging
-across the face shows as two loose pieces, the one left over on the far side of the spine).
+across the face shows as two loose pieces, the one left over on the far side of the spine); one
+farther out is a hand only once seen again, however much of a palm it shows (an arm across the
+face can show two ends).
 """
 from __future__ import annotations
 
@@ -41,7 +43,8 @@ class TrackerOptions(BaseModel):
         "a new candidate becomes a hand when seen again this much later (one frame at 30 fps): "
         "a patch seen once is noise"))
     strong_confidence: float = Field(0.3, ge=0, le=1, description=(
-        "a candidate this confident (the share of a palm the sensor saw) is a hand at once"))
+        "a candidate this confident (the share of a palm the sensor saw) is a hand at once, unless another "
+        "hand of its side is in view (then it waits `confirm_s` like any other)"))
     hold_s: float = Field(0.07, ge=0, description=(
         "a tracked hand missed for up to this long is still reported where it was last seen "
         "(two frames at 30 fps): a dropout does not make it flicker lost/new"))
@@ -197,7 +200,9 @@ class HandTracker:
                 if not stale:
                     break
                 out.extend(self._drop(min(stale, key=lambda tr: tr.seen)))  # replaces the longest unseen
-            self._tracks.append(self._birth(t, cand, side))
+            # a second find on the side of a hand in view (an arm across the face can show two ends)
+            # is a hand only once seen again, however much of a palm it shows
+            self._tracks.append(self._birth(t, cand, side, sure=not in_view))
         return out
 
     def _report(self, t: float) -> list[Hand]:
@@ -276,11 +281,11 @@ class HandTracker:
         within a forearm's length (`loose_hand_mm`) of it? A whole arm swinging across the face shows so."""
         return cand.loose and float(np.linalg.norm(cand.position - hand.position)) <= self.options.loose_hand_mm
 
-    def _birth(self, t: float, cand: Candidate, side: Side) -> _Track:
+    def _birth(self, t: float, cand: Candidate, side: Side, sure: bool = True) -> _Track:
         track = _Track(next(self._ids), side, OneEuroFilter(self.options.smoothing), cand.position, cand.position,
                        t, t, cand.at_border, cand.confidence, reach=cand.reach)
         track.position = track.filter(t, cand.position)
-        track.confirmed = self.options.confirm_s <= 0 or cand.confidence >= self.options.strong_confidence
+        track.confirmed = self.options.confirm_s <= 0 or sure and cand.confidence >= self.options.strong_confidence
         return track
 
     def _other_arm(self, t: float, track: _Track, cand: Candidate, torso: np.ndarray | None, mirrored: bool) -> bool:

@@ -314,3 +314,27 @@ def test_a_piece_cut_off_from_a_tracked_arm_next_to_its_hand_is_no_second_hand()
     assert [h.id for h in after] == [first[0].id]
     _, after = second_piece(loose=False)
     assert sorted(h.side for h in after) == sorted([Side.RIGHT, Side.LEFT])
+
+
+def test_a_second_find_on_the_side_of_a_hand_in_view_is_a_hand_only_once_seen_again():
+    """A whole arm across the face can show two ends on the side where it joins the body: the hand and,
+    a forearm or more away, its elbow, farther from the neck. UTD-MHAD subject 4's wave, with the
+    sensor's noise doubled, gave a second right hand there for one frame, 280 mm from the waving one:
+    too near for the swings to count. Such a find, however much of a palm it shows, becomes a hand once
+    seen again; a hand that stays is reported from its second frame."""
+    def frames(elbow_frames: int) -> list[tuple]:
+        tracker = HandTracker()
+        torso, root = np.array([-90.0, -120.0, 2860.0]), np.array([70.0, 160.0, 2600.0])
+        hand, elbow = np.array([-220.0, 230.0, 2570.0]), np.array([30.0, 180.0, 2590.0])
+        out = [tracker._update_tracks(0.0, [Candidate(hand, 330.0, False, root, 0.8)], torso, True)]
+        for i in range(1, 4):
+            found = [Candidate(hand + (0.0, 5.0 * i, 0.0), 330.0, False, hand, 0.6)]
+            if i <= elbow_frames:
+                found.append(Candidate(elbow, 350.0, False, elbow, 0.97))
+            out.append(tracker._update_tracks(i / 30, found, torso, True))
+        return [tuple(h.id for h in hands if h.state is not HandState.LOST) for hands in out]
+    once = frames(elbow_frames=1)
+    assert all(ids == once[0] for ids in once)
+    stays = frames(elbow_frames=3)
+    assert stays[1] == stays[0] and len(stays[2]) == 2 and stays[3] == stays[2]
+
