@@ -11,7 +11,8 @@ side of a hand in view and nearer the body than it (an elbow sticking out during
 not a new hand, nor is a piece cut off from a tracked arm next to its hand (a whole arm swinging
 across the face shows as two loose pieces, the one left over on the far side of the spine); one
 farther out is a hand only once seen again, however much of a palm it shows (an arm across the
-face can show two ends).
+face can show two ends), and a hand out of sight for longer than `hold_s` is not found again while
+another hand of its side is in view (that is the side's hand now).
 """
 from __future__ import annotations
 
@@ -239,12 +240,17 @@ class HandTracker:
     def _match(self, t: float, found: list[Candidate], torso: np.ndarray | None,
                mirrored: bool) -> dict[_Track, Candidate]:
         """The assignment of candidates to live tracks with the smallest total distance, within gates
-        and never across arms."""
+        and never across arms; a hand out of sight for longer than `hold_s` takes none while another
+        hand of its side is in view (that is the side's hand now)."""
+        o = self.options
         tracks = self._tracks
         if not tracks or not found:
             return {}
+        in_view = {tr.side for tr in tracks if t - tr.seen <= o.hold_s and tr.side is not Side.UNKNOWN}
         allowed: dict[tuple[int, int], float] = {}  # (track, candidate) -> distance, for pairs within gates
         for i, tr in enumerate(tracks):
+            if t - tr.seen > o.hold_s and tr.side in in_view:
+                continue
             gate = self._gate(t, tr)
             for j, c in enumerate(found):
                 d = self._distance(tr, c)

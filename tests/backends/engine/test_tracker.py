@@ -338,3 +338,23 @@ def test_a_second_find_on_the_side_of_a_hand_in_view_is_a_hand_only_once_seen_ag
     stays = frames(elbow_frames=3)
     assert stays[1] == stays[0] and len(stays[2]) == 2 and stays[3] == stays[2]
 
+
+def test_a_hand_out_of_sight_is_not_found_again_while_another_hand_of_its_side_is_in_view():
+    """An arm has one hand. A hanging right hand seen for a frame, then the arm rising into a wave, gives
+    two right tracks; the first, out of sight, was found again half a second later on a piece of the
+    waving arm (UTD-MHAD subject 4's wave played 0.7x faster), which ended the wave. While another hand of
+    its side is in view, that is the side's hand; alone, the hand out of sight is found again."""
+    def found_again(other_in_view: bool) -> bool:
+        tracker = HandTracker()
+        torso, root = np.array([0.0, 0.0, 2600.0]), np.array([100.0, 150.0, 2500.0])
+        low, up = np.array([270.0, -320.0, 2600.0]), np.array([250.0, 300.0, 2400.0])
+        first = tracker._update_tracks(0.0, [Candidate(low, 300.0, False, root, 0.8)], torso, True)
+        waving = [Candidate(up + (-20.0 * i, 0.0, 0.0), 500.0, False, root, 0.8) for i in range(16)]
+        for i in range(1, 15):
+            tracker._update_tracks(i / 30, waving[i:i + 1] if other_in_view else [], torso, True)
+        piece = np.array([50.0, 150.0, 2550.0])  # within the first track's gate
+        after = tracker._update_tracks(15 / 30, [Candidate(piece, 350.0, False, piece, 0.9)]
+                                       + (waving[15:] if other_in_view else []), torso, True)
+        return first[0].id in {h.id for h in after if h.state is not HandState.LOST}
+    assert not found_again(other_in_view=True)
+    assert found_again(other_in_view=False)
