@@ -266,11 +266,11 @@ class GestureRecognizer:
         return events
 
     def _refound(self, hand: Hand, t: float, live: Sequence[Hand]) -> _HandTrack | None:
-        """The track of the hand that a new hand is: one on the same side, unseen now, seen within
-        `track_gap_s`. An arm has one hand: a tracker that could not follow it (a whole arm flicking
-        faster than its gate) finds it again as a new hand. It goes on after a gap: where it was
-        meanwhile is unknown, so the jump is no motion (a wave's swing is counted; no swipe up or down
-        spans it)."""
+        """The track that a new hand continues, if any: the one on its side unseen now and last seen
+        within `track_gap_s`. An arm has one hand; a depth tracker outrun by a flick (a whole arm faster
+        than its gate) finds it again as a new one. The track goes on after a gap: where the hand was
+        meanwhile is unknown, so the jump is no measured motion (a wave's turn counts; no swipe up or
+        down spans it)."""
         if hand.side is Side.UNKNOWN:
             return None
         seen = {h.id for h in live}
