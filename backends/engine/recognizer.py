@@ -250,22 +250,22 @@ class GestureRecognizer:
             if track is not None:  # a swipe just before the hand left the view still counts
                 _Hand(self, track, track.hand, t, mirrored, events, self._tracks).flush(gone=True)
         frame = self._body.update(t, {h.id: np.asarray(h.position, float) for h in live}, body or {})
+        seen = {h.id for h in live}
         for h in live:
             track, refound = self._tracks.get(h.id), None
             if track is None:
-                refound = self._refound(h, t, live)
+                refound = self._refound(h, t, seen)
                 track = self._tracks[h.id] = refound or _HandTrack(self.rules, h)
             track.hand, track.last_seen = h, t
             s = track.sample(t, np.asarray(h.position, float) - frame.torso, frame.shoulder_y - frame.torso[1],
                              frame.head - frame.torso, h.position, frame.vy, after_gap=refound is not None)
             _Hand(self, track, h, t, mirrored, events, self._tracks).step(s)
-        seen = {h.id for h in live}
         for hid, track in self._tracks.items():
             if hid not in seen:  # unseen this frame: its pending swipes still come due
                 _Hand(self, track, track.hand, t, mirrored, events, self._tracks).resolve_all(in_view=False)
         return events
 
-    def _refound(self, hand: Hand, t: float, live: Sequence[Hand]) -> _HandTrack | None:
+    def _refound(self, hand: Hand, t: float, seen: set[int]) -> _HandTrack | None:
         """The track that a new hand continues, if any: the one on its side unseen now and last seen
         within `track_gap_s`. An arm has one hand; a depth tracker outrun by a flick (a whole arm faster
         than its gate) finds it again as a new one. The track goes on after a gap: where the hand was
@@ -273,7 +273,6 @@ class GestureRecognizer:
         down spans it)."""
         if hand.side is Side.UNKNOWN:
             return None
-        seen = {h.id for h in live}
         for hid, track in self._tracks.items():
             if hid not in seen and track.hand.side is hand.side and t - track.last_seen <= self.rules.track_gap_s:
                 return self._tracks.pop(hid)

@@ -190,7 +190,7 @@ class HandTracker:
         for cand in free:
             side = self._side_of(cand, torso, mirrored)
             same = [tr for tr in self._tracks if tr.side is side and side is not Side.UNKNOWN]
-            in_view = [tr for tr in same if t - tr.seen <= o.hold_s]
+            in_view = [tr for tr in same if self._in_view(t, tr)]
             if any(cand.reach <= tr.reach for tr in in_view):
                 continue  # on the side of a hand in view, nearer the body: another part of that arm
             for old in same:  # that side's hand, out of sight for a while, is found elsewhere: a new hand
@@ -242,14 +242,13 @@ class HandTracker:
         """The assignment of candidates to live tracks with the smallest total distance, within gates
         and never across arms; a hand out of sight for longer than `hold_s` takes none while another
         hand of its side is in view (that is the side's hand now)."""
-        o = self.options
         tracks = self._tracks
         if not tracks or not found:
             return {}
-        in_view = {tr.side for tr in tracks if t - tr.seen <= o.hold_s and tr.side is not Side.UNKNOWN}
+        in_view = {tr.side for tr in tracks if self._in_view(t, tr) and tr.side is not Side.UNKNOWN}
         allowed: dict[tuple[int, int], float] = {}  # (track, candidate) -> distance, for pairs within gates
         for i, tr in enumerate(tracks):
-            if t - tr.seen > o.hold_s and tr.side in in_view:
+            if not self._in_view(t, tr) and tr.side in in_view:
                 continue
             gate = self._gate(t, tr)
             for j, c in enumerate(found):
@@ -257,6 +256,10 @@ class HandTracker:
                 if d <= gate and not self._other_arm(t, tr, c, torso, mirrored):
                     allowed[i, j] = d
         return {tracks[i]: found[j] for i, j in best_assignment(allowed, len(tracks), len(found))}
+
+    def _in_view(self, t: float, track: _Track) -> bool:
+        """Is the track's hand seen now or held where it was last seen (missed for at most `hold_s`)?"""
+        return t - track.seen <= self.options.hold_s
 
     def _gate(self, t: float, track: _Track) -> float:
         """How far from the track a candidate may be found: a hand's fastest move since it was seen."""
@@ -296,7 +299,7 @@ class HandTracker:
 
     def _other_arm(self, t: float, track: _Track, cand: Candidate, torso: np.ndarray | None, mirrored: bool) -> bool:
         o = self.options
-        if (torso is None or track.side is Side.UNKNOWN or t - track.seen <= o.hold_s
+        if (torso is None or track.side is Side.UNKNOWN or self._in_view(t, track)
                 or abs(cand.root[0] - torso[0]) <= o.other_arm_mm):
             return False
         return self._side_of(cand, torso, mirrored) is not track.side
