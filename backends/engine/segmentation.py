@@ -287,7 +287,7 @@ class Segmenter:
         # depth: z - n > edge + ratio * n, i.e. the nearest neighbour n < (z - edge) / (1 + ratio).
         nearest = cv2.erode(np.where(valid, z, np.float32(np.inf)), ONE_CELL_GAP)
         o = self.options
-        keep = valid & ~(nearest < (z - np.float32(o.edge_mm)) / np.float32(1 + o.edge_ratio))
+        keep = valid & (nearest >= (z - np.float32(o.edge_mm)) / np.float32(1 + o.edge_ratio))
         count, labels = cv2.connectedComponents(keep.view(np.uint8), connectivity=4)
         labels[bridge] = 0
         return count, labels
@@ -390,10 +390,9 @@ class Segmenter:
         if count <= 1:
             return []
         flat = labels.ravel().astype(np.intp)  # bincount's index type: converted once for all of them
-        n = np.maximum(np.bincount(flat, minlength=count), 1)  # cells per surface (with readings)
-        z = g.z.astype(np.float64).ravel()
-        mean_z = np.bincount(flat, weights=z, minlength=count) / n
-        zz = np.bincount(flat, weights=z * z, minlength=count)
+        n, sum_z, zz, sum_x, sum_y = _per_surface(flat, count, g.z, g.z.astype(np.float64) ** 2, g.x, g.y)
+        n = np.maximum(n, 1)  # cells per surface (with readings)
+        mean_z = sum_z / n
         area = zz * (g.cell_x * g.cell_y)  # a cell covers its depth squared times its solid angle
         area[0] = 0
         spread = np.sqrt(np.maximum(zz / n - mean_z ** 2, 0))
@@ -418,7 +417,7 @@ class Segmenter:
             person[k] = self._enclosed(g, labels, sized, boxes[k], k, mean_z[k]) <= o.max_enclosed
         if not person.any():
             return []
-        whose = self._whose(g, flat, count, n)
+        whose = self._whose(g, labels, count, n)
         whose[area < o.min_part_area_m2 * 1e6] = -1  # noise
         rank = mean_z.copy()
         if stay:
@@ -430,8 +429,7 @@ class Segmenter:
         # Detached parts: within reach of a person and not behind them; each joins the nearest.
         part = (area >= o.min_part_area_m2 * 1e6) & (area <= o.max_part_area_m2 * 1e6) & ~person
         part[0] = False
-        centres = np.stack([np.bincount(flat, weights=g.x.ravel(), minlength=count) / n,
-                            np.bincount(flat, weights=g.y.ravel(), minlength=count) / n, mean_z], axis=1)
+        centres = np.stack([sum_x / n, sum_y / n, mean_z], axis=1)
         offsets = centres[:, None, :] - centres[None, people, :]  # (surface, person, xyz)
         distance = np.linalg.norm(offsets, axis=2)
         within = (distance <= o.reach_mm) & (offsets[:, :, 2] < 150)
@@ -443,16 +441,18 @@ class Segmenter:
         owned = owner.take(labels)
         return [(owned == k, centres[p]) for k, p in enumerate(people)]
 
-    def _whose(self, g: Grid, flat: np.ndarray, count: int, n: np.ndarray) -> np.ndarray:
+    def _whose(self, g: Grid, labels: np.ndarray, count: int, n: np.ndarray) -> np.ndarray:
         """For each surface, the person of the last frame (their index) over 30 % of its cells were,
         at the same depth (the depth changed less than a depth edge since: the same surface, not the
-        wall seen where an arm was); the first such, or -1."""
+        wall seen where an arm was); the first such, or -1. Each person is looked at in their box."""
         if not self._last_masks or self._last_z.shape != g.z.shape:
             return np.full(count, -1)
-        same = np.abs(g.z - self._last_z) < self._edge(g.z)
         whose = np.full(count, -1)
         for j, mask in reversed(list(enumerate(self._last_masks))):
-            whose[np.bincount(flat[(mask & same).ravel()], minlength=count) / n > 0.3] = j
+            box = bounding_box(mask)
+            z = g.z[box]
+            same = mask[box] & (np.abs(z - self._last_z[box]) < self._edge(z))
+            whose[np.bincount(labels[box][same], minlength=count) / n > 0.3] = j
         whose[0] = -1
         return whose
 
@@ -504,6 +504,21 @@ def _boxes(labels: np.ndarray, which: np.ndarray) -> np.ndarray:
     for k in np.flatnonzero(which):
         boxes[k] = cv2.boundingRect((labels == k).view(np.uint8))
     return boxes
+
+
+def _per_surface(flat: np.ndarray, count: int, *weights: np.ndarray) -> list[np.ndarray]:
+    """Per label of the flattened label image `flat`: its cells, and the sum
+    of each of `weights` (arrays of the image's shape) over them, in float64.
+
+    Summed over the runs of one label along the rows first, then per label: a surface's cells lie
+    in runs, and bincount adding cell after cell into one bin waits each time for the addition
+    before (twice as slow on these images). The depths and their squares are whole numbers, so
+    their sums are exact either way."""
+    starts = np.concatenate(([0], np.flatnonzero(flat[1:] != flat[:-1]) + 1))
+    label = flat[starts]
+    cells = np.bincount(label, weights=np.diff(starts, append=flat.size), minlength=count).astype(np.int64)
+    return [cells] + [np.bincount(label, weights=np.add.reduceat(w.ravel(), starts, dtype=np.float64), minlength=count)
+                      for w in weights]
 
 
 def height_above(plane: np.ndarray, x, y, z):
