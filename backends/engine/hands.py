@@ -19,6 +19,7 @@ elbow). All in mm.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import cv2
@@ -26,7 +27,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.anatomy import Anatomy
-from backends.engine.trunk import Body
+from backends.engine.trunk import Body, dense_crop
 from backends.engine.segmentation import ONE_CELL_GAP, Grid, Segment, bounding_box
 
 
@@ -93,7 +94,7 @@ class HandDetector:
         box = bounding_box(seg.mask, 2)
         if box is None:
             return []
-        g, mask = seg.grid.crop(box), seg.mask[box]
+        g, mask = dense_crop(seg, box)
         top, left = box[0].start, box[1].start
         cand, near = self._extended(g, mask, body.core[box], body)
         if not cand.any():
@@ -105,6 +106,7 @@ class HandDetector:
         attached = self._attached(cand, mask & ~cand, g.z)
         neck = np.array([float(body.torso[0]), body.shoulder_y, body.torso[2]])
         h, w = seg.mask.shape  # the edges of the segment's grid (the image's, where the user reaches them)
+        at_edge = top == 0 or left == 0 or box[0].stop == h or box[1].stop == w  # else no palm touches them
         found: list[Candidate] = []
         for label in range(1, count):
             ys, xs = np.nonzero(labels == label)
@@ -112,33 +114,32 @@ class HandDetector:
                 continue
             pts = np.stack([g.x[ys, xs], g.y[ys, xs], g.z[ys, xs]], axis=1).astype(np.float64)
             joint = attached[ys, xs]
-            root = pts[joint].mean(axis=0) if joint.any() else neck
-            tips = self._tips(pts, root, at_chest=bool(near[ys, xs].all()))
-            for tip in tips:
+            joined = bool(joint.any())
+            root = pts[joint].mean(axis=0) if joined else neck
+            tips, from_tips = self._tips(pts, root, at_chest=bool(near[ys, xs].all()))
+            for i, tip in enumerate(tips):
                 if pts[tip, 1] < body.hip_y + o.hip_margin_mm and body.surface_z - pts[tip, 2] < o.front_mm:
                     continue  # the limb goes on below the hips at the body's side: a hanging arm
-                palm = np.linalg.norm(pts - pts[tip], axis=1) <= o.palm_radius_mm
+                palm = from_tips[i] <= o.palm_radius_mm
                 if len(tips) > 1:  # keep each hand's palm on its own side of the other hand
-                    other = pts[tips[1] if tip == tips[0] else tips[0]]
-                    palm &= np.linalg.norm(pts - other, axis=1) > np.linalg.norm(pts - pts[tip], axis=1)
+                    palm &= from_tips[1 - i] > from_tips[i]
                 position = pts[palm].mean(axis=0) + (0.0, 0.0, o.hand_depth_mm)
                 if self._elbow(position, body, neck):
                     continue
-                rows, cols = ys[palm] + top, xs[palm] + left
-                at_border = bool(np.any((rows == 0) | (rows == h - 1) | (cols == 0) | (cols == w - 1)))
-                reach = float(np.linalg.norm(pts[tip] - neck))
+                at_border = at_edge and self._at_border(ys[palm] + top, xs[palm] + left, h, w)
+                reach = _norm(pts[tip] - neck)
                 if reach < o.min_reach_mm:
                     continue
                 # Sides: by where the arm joins the body; for two hands of one patch, by each hand.
                 seen = g.pixel_area_mm2[ys[palm], xs[palm]].sum() / (o.palm_area_m2 * 1e6)
                 found.append(Candidate(position, reach, at_border,
-                                       root if joint.any() and len(tips) == 1 else position, min(1.0, seen),
-                                       loose=not joint.any()))
+                                       root if joined and len(tips) == 1 else position, min(1.0, seen),
+                                       loose=not joined))
         found = self._one_per_arm(found, neck)
         found.sort(key=lambda c: -c.reach)
         kept: list[Candidate] = []
         for c in found:  # two patches of one arm (cut by the head's clearance) are one hand
-            if all(np.linalg.norm(c.position - k.position) > o.hands_apart_mm for k in kept):
+            if all(_norm(c.position - k.position) > o.hands_apart_mm for k in kept):
                 kept.append(c)
         return kept[: o.max_hands]
 
@@ -160,24 +161,33 @@ class HandDetector:
             cand |= near
         return cand, near
 
-    def _tips(self, pts: np.ndarray, root: np.ndarray, at_chest: bool) -> list[int]:
+    def _tips(self, pts: np.ndarray, root: np.ndarray, at_chest: bool) -> tuple[list[int], list[np.ndarray]]:
         """The hands of one arm's patch (indices into `pts`): its end farthest from where it joins
-        the body, and a second end for two hands out together."""
+        the body, and a second end for two hands out together; and each point's distance from
+        each of them (where their palms are)."""
         if at_chest:
             # An arm at the chest lies within a joint's step of it all along its edge: where it
             # joins the body says nothing. Its hand is its most forward end (a push starts there).
-            return [int(np.argmin(pts[:, 2]))]
+            tip = int(np.argmin(pts[:, 2]))
+            return [tip], [_distances(pts, pts[tip])]
         o = self.options
-        from_root = np.linalg.norm(pts - root, axis=1)
+        from_root = _distances(pts, root)
         tips = [int(np.argmax(from_root))]
+        from_tips = [_distances(pts, pts[tips[0]])]
         # Both hands out together (a two-handed push) can make one patch: a second end as far
         # from where the patch joins the body, and a hand's width away from the first, is a hand.
-        apart = np.linalg.norm(pts - pts[tips[0]], axis=1) > o.hands_apart_mm
+        apart = from_tips[0] > o.hands_apart_mm
         if apart.any():
             second = int(np.argmax(np.where(apart, from_root, -1.0)))
             if from_root[second] >= o.second_hand_ratio * from_root[tips[0]]:
                 tips.append(second)
-        return tips
+                from_tips.append(_distances(pts, pts[second]))
+        return tips, from_tips
+
+    @staticmethod
+    def _at_border(rows: np.ndarray, cols: np.ndarray, h: int, w: int) -> bool:
+        """Whether any of the cells lies on the edge of an h x w grid."""
+        return bool(np.any((rows == 0) | (rows == h - 1) | (cols == 0) | (cols == w - 1)))
 
     @staticmethod
     def _before(front: np.ndarray, before_face: np.ndarray, head_clear: np.ndarray, mm: float) -> np.ndarray:
@@ -204,9 +214,9 @@ class HandDetector:
         step = np.zeros(z.shape, np.float32)  # how far the body cells beside each cell lie behind it
         for cell, beside in NEIGHBOURS:
             step[cell] = np.maximum(step[cell], np.where(behind[beside], z[beside] - z[cell], 0))
-        edge = np.zeros(count, np.float32)
-        np.maximum.at(edge, arms[near], step[near])
-        return near & ~other[arms] & (edge >= o.arm_edge_mm)[arms]
+        stands_out = np.zeros(count, bool)  # somewhere an arm's thickness out of the body beside it
+        stands_out[arms[near & (step >= o.arm_edge_mm)]] = True
+        return near & (stands_out & ~other)[arms]
 
     def _shoulder(self, x: float, neck: np.ndarray) -> np.ndarray:
         """The shoulder joint on the side of the body where x is."""
@@ -214,7 +224,7 @@ class HandDetector:
 
     def _elbow(self, position: np.ndarray, body: Body, neck: np.ndarray) -> bool:
         """Below the shoulders, behind the spine and within an upper arm of the shoulder: an elbow."""
-        near = np.linalg.norm(position - self._shoulder(position[0], neck)) < self.options.elbow_reach_mm
+        near = _norm(position - self._shoulder(position[0], neck)) < self.options.elbow_reach_mm
         return bool(position[1] < body.shoulder_y and position[2] > body.torso[2] and near)
 
     def _one_per_arm(self, found: list[Candidate], neck: np.ndarray) -> list[Candidate]:
@@ -224,7 +234,7 @@ class HandDetector:
         best: dict[bool, tuple[float, Candidate]] = {}
         for c in found:
             right = bool(c.root[0] > neck[0])
-            d = float(np.linalg.norm(c.position - self._shoulder(c.root[0], neck)))
+            d = _norm(c.position - self._shoulder(c.root[0], neck))
             if right not in best or d > best[right][0]:
                 best[right] = (d, c)
         return [c for _, c in best.values()]
@@ -240,3 +250,14 @@ class HandDetector:
         out[:, :-1] |= rest[:, 1:] & near_x
         return out & cand
 
+
+def _distances(pts: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """np.linalg.norm(pts - point, axis=1): the same floats, without its generality's cost."""
+    d = pts - point
+    return np.sqrt((d * d).sum(axis=1))
+
+
+def _norm(v: np.ndarray) -> float:
+    """np.linalg.norm of a 3-vector (the same float) without numpy's per-call cost."""
+    x, y, z = v.tolist()
+    return math.sqrt(x * x + y * y + z * z)

@@ -18,6 +18,7 @@ says whether it sticks out of the body. Left and right are the performer's. All 
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -26,7 +27,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from backends.engine.anatomy import Anatomy
 from backends.engine.quantiles import median
 from backends.engine.segmentation import Grid, Segment, bounding_box
-from backends.engine.trunk import Body
+from backends.engine.trunk import Body, dense_crop
 from backends.users import hand_id
 from host import Hand, HandState, Joint, Side, Vec3
 
@@ -195,7 +196,7 @@ class SkeletonEstimator:
         forearm) is a seated performer's knee."""
         o = self.options
         return all(h.position[1] < body.hip_y + o.knee_above_hips_mm
-                   and np.linalg.norm(np.subtract(h.position, beside)) < o.upper_arm_mm[1] for h in out)
+                   and _norm(np.subtract(h.position, beside)) < o.upper_arm_mm[1] for h in out)
 
     def _resting(self, view: _View, side: _Side, body: Body) -> tuple[np.ndarray, float, bool] | None:
         """The hand at the lowest end of the arm beside the legs, else the lowest part of the user
@@ -239,10 +240,15 @@ class SkeletonEstimator:
         (the thigh below the fingers), else the run's last row. A few dozen rows: a loop over them
         costs less than array operations."""
         out, rows = edge[rows].tolist(), rows.tolist()
-        for i in range(1, len(rows)):
-            if rows[i] - rows[i - 1] > 2 or max(out[max(0, i - 3):i]) - out[i] > self.options.fingertip_step_mm:
-                return rows[i - 1]  # the run ends at a gap, or the outline steps in below this row
-        return rows[-1]
+        step = self.options.fingertip_step_mm
+        above = [-math.inf, -math.inf, out[0]]  # the outline in the (up to) three rows above
+        last = rows[0]
+        for row, here in zip(rows[1:], out[1:]):
+            if row - last > 2 or max(above) - here > step:
+                return last  # the run ends at a gap, or the outline steps in below this row
+            above = [above[1], above[2], here]
+            last = row
+        return last
 
     def _elbow(self, view: _View, shoulder: np.ndarray, hand: np.ndarray) -> Joint | None:
         """The user's cell nearest the middle of shoulder and hand, if it is an upper arm from the
@@ -258,7 +264,7 @@ class SkeletonEstimator:
         i = int(np.argmin((x - middle[0]) ** 2 + (y - middle[1]) ** 2 + (z - middle[2]) ** 2))
         cell = np.array([x[i], y[i], z[i]], np.float64) + (0.0, 0.0, o.hand_depth_mm)
         lo, hi = o.upper_arm_mm
-        upper, fore = np.linalg.norm(cell - shoulder), np.linalg.norm(cell - hand)
+        upper, fore = _norm(cell - shoulder), _norm(cell - hand)
         if not (lo <= upper <= hi and lo <= fore <= hi):
             return None
         return Joint(_vec(cell), 0.5)
@@ -277,7 +283,7 @@ class _View:
     @classmethod
     def of(cls, seg: Segment, body: Body, behind_mm: float) -> "_View":
         box = bounding_box(seg.mask)
-        grid, mask = seg.grid.crop(box), seg.mask[box]
+        grid, mask = dense_crop(seg, box)
         return cls(grid, mask, grid.x - float(body.torso[0]), mask & (grid.z - body.surface_z < behind_mm),
                    _row_heights(grid.y, mask))
 
@@ -297,9 +303,15 @@ def _rows(rows_y: np.ndarray, low: float, high: float) -> slice:
 
 def _row_heights(y: np.ndarray, mask: np.ndarray) -> np.ndarray:
     """Each grid row's height in mm (the mean over its user cells; NaN for empty rows)."""
-    counts = np.count_nonzero(mask, axis=1)
+    counts = mask.sum(axis=1)  # np.count_nonzero along an axis costs twice as much
     sums = (y * mask).sum(axis=1)
     return np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
+
+
+def _norm(v: np.ndarray) -> float:
+    """np.linalg.norm of a 3-vector (the same float) without numpy's per-call cost."""
+    x, y, z = v.tolist()
+    return math.sqrt(x * x + y * y + z * z)
 
 
 def _vec(a: np.ndarray) -> Vec3:

@@ -45,12 +45,17 @@ class OneEuroFilter:
             return x
         if t <= self._t:  # the same instant again (or a clock that went back): nothing new to filter
             return self._x
+        # On Python floats: a 3-vector's few operations cost less so than as numpy calls (the same
+        # IEEE arithmetic, element by element; the norm summed in numpy's order).
         dt = t - self._t
         o = self.options
-        dx = (x - self._x) / dt
-        self._dx = self._dx + _alpha(o.d_cutoff_hz, dt) * (dx - self._dx)
-        cutoff = o.min_cutoff_hz + o.beta * float(np.linalg.norm(self._dx))
-        self._x = self._x + _alpha(cutoff, dt) * (x - self._x)
+        new, last, speed = x.tolist(), self._x.tolist(), self._dx.tolist()
+        alpha = _alpha(o.d_cutoff_hz, dt)
+        speed = [v + alpha * ((n - p) / dt - v) for n, p, v in zip(new, last, speed)]
+        cutoff = o.min_cutoff_hz + o.beta * math.sqrt(sum(v * v for v in speed))
+        alpha = _alpha(cutoff, dt)
+        self._dx = np.array(speed)
+        self._x = np.array([p + alpha * (n - p) for n, p in zip(new, last)])
         self._t = t
         return self._x
 
