@@ -27,8 +27,8 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.anatomy import Anatomy
-from backends.engine.trunk import Body, dense_crop
-from backends.engine.segmentation import ONE_CELL_GAP, Grid, Segment, bounding_box
+from backends.engine.trunk import Body, UserBox
+from backends.engine.segmentation import ONE_CELL_GAP, Grid, Segment
 
 
 #: (each cell, its neighbour) as slices of a grid: the neighbours below, above, right and left (for
@@ -91,10 +91,10 @@ class HandDetector:
         o = self.options = self.anatomy.at(body.scale)  # the body's size: a child's arms and palms
         # Only the user's cells count, and the gap bridging reaches two cells out: the user's box
         # that much wider is all there is to look at.
-        box = bounding_box(seg.mask, 2)
-        if box is None:
+        user = body.user if body.user is not None else UserBox.of(seg)
+        if user is None:
             return []
-        g, mask = dense_crop(seg, box)
+        box, g, mask = user.box, user.grid, user.mask
         top, left = box[0].start, box[1].start
         cand, near = self._extended(g, mask, body.core[box], body)
         if not cand.any():
@@ -105,8 +105,7 @@ class HandDetector:
         labels[~cand] = 0
         attached = self._attached(cand, mask & ~cand, g.z)
         neck = np.array([float(body.torso[0]), body.shoulder_y, body.torso[2]])
-        h, w = seg.mask.shape  # the edges of the segment's grid (the image's, where the user reaches them)
-        at_edge = top == 0 or left == 0 or box[0].stop == h or box[1].stop == w  # else no palm touches them
+        border = _border(box, mask.shape, seg.mask.shape)
         found: list[Candidate] = []
         for label in range(1, count):
             ys, xs = np.nonzero(labels == label)
@@ -115,6 +114,7 @@ class HandDetector:
             pts = np.stack([g.x[ys, xs], g.y[ys, xs], g.z[ys, xs]], axis=1).astype(np.float64)
             joint = attached[ys, xs]
             joined = bool(joint.any())
+            on_border = border[ys, xs] if border is not None else None
             root = pts[joint].mean(axis=0) if joined else neck
             tips, from_tips = self._tips(pts, root, at_chest=bool(near[ys, xs].all()))
             for i, tip in enumerate(tips):
@@ -126,7 +126,7 @@ class HandDetector:
                 position = pts[palm].mean(axis=0) + (0.0, 0.0, o.hand_depth_mm)
                 if self._elbow(position, body, neck):
                     continue
-                at_border = at_edge and self._at_border(ys[palm] + top, xs[palm] + left, h, w)
+                at_border = on_border is not None and bool(on_border[palm].any())
                 reach = _norm(pts[tip] - neck)
                 if reach < o.min_reach_mm:
                     continue
@@ -185,11 +185,6 @@ class HandDetector:
         return tips, from_tips
 
     @staticmethod
-    def _at_border(rows: np.ndarray, cols: np.ndarray, h: int, w: int) -> bool:
-        """Whether any of the cells lies on the edge of an h x w grid."""
-        return bool(np.any((rows == 0) | (rows == h - 1) | (cols == 0) | (cols == w - 1)))
-
-    @staticmethod
     def _before(front: np.ndarray, before_face: np.ndarray, head_clear: np.ndarray, mm: float) -> np.ndarray:
         """Cells more than `mm` in front of the trunk (near the head, in front of the face)."""
         return (front > mm) & (head_clear | (before_face > mm))
@@ -210,12 +205,17 @@ class HandDetector:
         other = np.zeros(count, bool)  # arms reaching farther, or running into the head
         other[arms[hands]] = True
         other[arms[cv2.dilate(head.view(np.uint8), ONE_CELL_GAP).view(bool)]] = True
-        behind = mask & ~(cand | near)
-        step = np.zeros(z.shape, np.float32)  # how far the body cells beside each cell lie behind it
+        # How far the body cells beside each near cell lie behind it: on the near cells' box and
+        # one cell around it, not on all the user's.
+        left, top, width, height = cv2.boundingRect(near.view(np.uint8))
+        around = np.s_[max(top - 1, 0):top + height + 1, max(left - 1, 0):left + width + 1]
+        depth, near_here = z[around], near[around]
+        behind = mask[around] & ~(cand[around] | near_here)
+        step = np.zeros(depth.shape, np.float32)
         for cell, beside in NEIGHBOURS:
-            step[cell] = np.maximum(step[cell], np.where(behind[beside], z[beside] - z[cell], 0))
+            step[cell] = np.maximum(step[cell], np.where(behind[beside], depth[beside] - depth[cell], 0))
         stands_out = np.zeros(count, bool)  # somewhere an arm's thickness out of the body beside it
-        stands_out[arms[near & (step >= o.arm_edge_mm)]] = True
+        stands_out[arms[around][near_here & (step >= o.arm_edge_mm)]] = True
         return near & (stands_out & ~other)[arms]
 
     def _shoulder(self, x: float, neck: np.ndarray) -> np.ndarray:
@@ -249,6 +249,20 @@ class HandDetector:
         out[:, 1:] |= rest[:, :-1] & near_x
         out[:, :-1] |= rest[:, 1:] & near_x
         return out & cand
+
+
+def _border(box: tuple[slice, slice], size: tuple[int, int], shape: tuple[int, int]) -> np.ndarray | None:
+    """The cells of `box` (holding `size` cells of a grid of `shape`) on the grid's edge (the
+    image's, where the user reaches it); None when the box reaches no edge."""
+    top, left = box[0].start, box[1].start
+    edges = (top == 0, top + size[0] == shape[0], left == 0, left + size[1] == shape[1])
+    if not any(edges):
+        return None
+    border = np.zeros(size, bool)
+    for edge, cells in zip(edges, (np.s_[0, :], np.s_[-1, :], np.s_[:, 0], np.s_[:, -1])):
+        if edge:
+            border[cells] = True
+    return border
 
 
 def _distances(pts: np.ndarray, point: np.ndarray) -> np.ndarray:

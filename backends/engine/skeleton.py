@@ -26,8 +26,8 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.anatomy import Anatomy
 from backends.engine.quantiles import median
-from backends.engine.segmentation import Grid, Segment, bounding_box
-from backends.engine.trunk import Body, dense_crop
+from backends.engine.segmentation import Grid, Segment
+from backends.engine.trunk import Body, UserBox
 from backends.users import hand_id
 from host import Hand, HandState, Joint, Side, Vec3
 
@@ -126,8 +126,11 @@ class SkeletonEstimator:
         was last measured, with confidence 0, when the depth does not show it now; None before it
         was ever measured."""
         out = [h for h in extended if h.side is side and h.in_view]
-        found = self._resting(view, cells, body)
-        if out and found is not None and found[2] and self._knee(out, found[0], body):
+        # Only extended hands below the hips can be a knee: with one higher up, what rests beside
+        # the legs is not looked for (the extended hand is this side's hand).
+        low = all(h.position[1] < body.hip_y + self.options.knee_above_hips_mm for h in out)
+        found = self._resting(view, cells, body) if low else None
+        if out and found is not None and found[2] and self._knee(out, found[0]):
             # The hand rests on the knee or beside it: between the knee's depth and the outline's.
             knee_z = min(h.position[2] for h in out)
             found = (np.array([found[0][0], found[0][1], 0.5 * (found[0][2] + knee_z)]), *found[1:])
@@ -191,12 +194,10 @@ class SkeletonEstimator:
         half = min(hi, max(lo, float(median(edge)) - o.shoulder_inside_edge_mm)) if edge.size else 0.5 * (lo + hi)
         return np.array([body.torso[0] + outwards * half, body.shoulder_y, body.surface_z + o.joint_depth_mm])
 
-    def _knee(self, out: list[Hand], beside: np.ndarray, body: Body) -> bool:
-        """An extended hand below the hips with a hand found beside the legs next to it (within a
-        forearm) is a seated performer's knee."""
-        o = self.options
-        return all(h.position[1] < body.hip_y + o.knee_above_hips_mm
-                   and _norm(np.subtract(h.position, beside)) < o.upper_arm_mm[1] for h in out)
+    def _knee(self, out: list[Hand], beside: np.ndarray) -> bool:
+        """Extended hands below the hips (`knee_above_hips_mm`) with a hand found beside the legs
+        next to them (within a forearm) are a seated performer's knee."""
+        return all(_norm(np.subtract(h.position, beside)) < self.options.upper_arm_mm[1] for h in out)
 
     def _resting(self, view: _View, side: _Side, body: Body) -> tuple[np.ndarray, float, bool] | None:
         """The hand at the lowest end of the arm beside the legs, else the lowest part of the user
@@ -260,9 +261,10 @@ class SkeletonEstimator:
         near = view.mask[band] & (np.abs(x - middle[0]) < 150)
         if not near.any():
             return None
-        x, y, z = x[near], g.y[band][near], g.z[band][near]
-        i = int(np.argmin((x - middle[0]) ** 2 + (y - middle[1]) ** 2 + (z - middle[2]) ** 2))
-        cell = np.array([x[i], y[i], z[i]], np.float64) + (0.0, 0.0, o.hand_depth_mm)
+        cells = np.stack((x[near], g.y[band][near], g.z[band][near]))  # (3, n): summed row by row below
+        offset = cells - middle[:, None]
+        i = int(np.argmin((offset * offset).sum(axis=0)))
+        cell = cells[:, i].astype(np.float64) + (0.0, 0.0, o.hand_depth_mm)
         lo, hi = o.upper_arm_mm
         upper, fore = _norm(cell - shoulder), _norm(cell - hand)
         if not (lo <= upper <= hi and lo <= fore <= hi):
@@ -272,7 +274,7 @@ class SkeletonEstimator:
 
 @dataclass(frozen=True)
 class _View:
-    """One frame's user on its bounding box, with what both sides share."""
+    """One frame's user on its user box, with what both sides share."""
 
     grid: Grid
     mask: np.ndarray
@@ -282,8 +284,8 @@ class _View:
 
     @classmethod
     def of(cls, seg: Segment, body: Body, behind_mm: float) -> "_View":
-        box = bounding_box(seg.mask)
-        grid, mask = dense_crop(seg, box)
+        user = body.user if body.user is not None else UserBox.of(seg)
+        grid, mask = user.grid, user.mask
         return cls(grid, mask, grid.x - float(body.torso[0]), mask & (grid.z - body.surface_z < behind_mm),
                    _row_heights(grid.y, mask))
 

@@ -67,6 +67,29 @@ class Body:
     face_z: float  # depth of the face: the head joint less a joint's depth
     core: np.ndarray  # (h, w) bool: trunk cells on the grid
     scale: float = 1.0  # the performer's anatomy relative to an adult's (anatomy.py)
+    user: UserBox | None = None  # the segment's user box it was estimated on, for the stages after it
+
+
+@dataclass(frozen=True)
+class UserBox:
+    """One frame's user on their box of the grid, BEYOND_USER cells wider where the grid goes on
+    (what hole filling, erosion and gap bridging look at), copied into contiguous arrays: the
+    dozens of numpy operations each stage runs on them cost about half what they do on views of
+    the whole grid's rows. The body frame, the hand detector and the skeleton share one."""
+
+    box: tuple[slice, slice]
+    grid: Grid  # depth and positions copied; the cell areas (seldom used) a view of the whole grid's
+    mask: np.ndarray
+
+    @classmethod
+    def of(cls, seg: Segment) -> UserBox | None:
+        """The segment's user box; None for an empty mask."""
+        box = bounding_box(seg.mask, BEYOND_USER)
+        if box is None:
+            return None
+        g = seg.grid.crop(box)
+        z, x, y, mask = (np.ascontiguousarray(a) for a in (g.z, g.x, g.y, seg.mask[box]))
+        return cls(box, Grid(z, x, y, g.pixel_area_mm2, g.cell_x, g.cell_y), mask)
 
 
 class BodyEstimator:
@@ -89,15 +112,14 @@ class BodyEstimator:
         """The body frame of this frame at `t` seconds (None without a user)."""
         scale = self.stature.scale  # as tall as the crowns seen so far: this frame's goes in for the next
         o = self.options = self.anatomy.at(scale)
-        # All is done on the user's box (the same result as on the whole grid, faster); the
-        # openings see it padded with two empty cells where the grid goes on: the hole filling
-        # reaches one cell beyond the user, the erosion needs one empty cell beyond to eat into
-        # the user from that side, and an opening never grows past what it opens.
-        box = bounding_box(seg.mask)
-        if box is None:
+        # All is done on the user's box (the same result as on the whole grid, faster): two empty
+        # cells around the user where the grid goes on are all the openings need (the hole filling
+        # reaches one cell beyond the user, the erosion needs one empty cell beyond to eat into the
+        # user from that side, and an opening never grows past what it opens).
+        user = UserBox.of(seg)
+        if user is None:
             return None
-        pad = _padding(box, seg.mask.shape, BEYOND_USER)
-        g, mask = dense_crop(seg, box)
+        g, mask = user.grid, user.mask
         ref = self._surface_z if self._surface_z is not None else float(median(g.z[mask]))
         k = max(3, int(round(o.core_width_mm / (g.cell_x * ref))))
         k_outline = max(3, int(round(o.outline_width_mm / (g.cell_x * ref))))
@@ -106,10 +128,10 @@ class BodyEstimator:
         # can only push up: the top of the outline without its thin parts (an arm across the
         # chest stays inside it), and the crown of the head less the head and neck.
         plane = mask & (g.z > ref - o.plane_band_mm)
-        core = opened = self._open(plane, k, pad)
+        core = opened = self._open(plane, k)
         if np.count_nonzero(core) < 4:
             core = plane if plane.any() else mask
-        outline = self._open(mask, k_outline, pad)
+        outline = self._open(mask, k_outline)
         if np.count_nonzero(outline) < 4:
             outline = core
         centre_x = float(median(g.x[core]))
@@ -136,7 +158,7 @@ class BodyEstimator:
         # (each cell's ray at the trunk's depth): an arm across the chest hides part of the trunk
         # and would pull the middle of what is left away from the spine.
         before = mask & (g.z < ref + o.plane_band_mm)  # often the plane itself (nothing in front, nothing behind)
-        seen = (opened if np.array_equal(before, plane) else self._open(before, k, pad)) & trunk_rows | trunk
+        seen = (opened if np.array_equal(before, plane) else self._open(before, k)) & trunk_rows | trunk
         tx = float(median(g.x[seen] / g.z[seen])) * ref
         tx, shoulder_y, surface = self._frame(t, np.array([tx, shoulder_y, median(g.z[trunk])])).tolist()
         self._surface_z = surface
@@ -155,9 +177,9 @@ class BodyEstimator:
                              median(g.z[head_cells]) + o.joint_depth_mm])
         head = self._head_filter(t, head)
         whole = np.zeros_like(seg.mask)
-        whole[box] = core
+        whole[user.box] = core
         return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface,
-                    float(head[2]) - o.joint_depth_mm, whole, scale)
+                    float(head[2]) - o.joint_depth_mm, whole, scale, user)
 
     def _leaning_head_x(self, x: np.ndarray, y: np.ndarray, mask: np.ndarray, centre_x: float) -> float:
         """Where across to look for the head: above the spine, unless the user's top is a head-wide
@@ -197,15 +219,14 @@ class BodyEstimator:
         return crown
 
     @staticmethod
-    def _open(mask: np.ndarray, k: int, pad: tuple[int, int, int, int]) -> np.ndarray:
-        """The cells of `mask` that remain after removing everything thinner than a k-cell disc,
-        done on `mask` padded with (top, bottom, left, right) empty cells. One-cell holes (missing
+    def _open(mask: np.ndarray, k: int) -> np.ndarray:
+        """The cells of `mask` (a user box's) that remain after removing everything thinner than a
+        k-cell disc. One-cell holes (missing
         readings, the shadow a depth sensor casts beside an arm) are filled for the shape but left
         out of the result: they have no depth to take a median of. A standing body is taller than
         wide: OpenCV's filters run faster along long rows, so the picture and the disc are
         transposed then (the same result)."""
-        top, bottom, left, right = pad
-        cells = cv2.copyMakeBorder(mask.view(np.uint8), top, bottom, left, right, cv2.BORDER_CONSTANT, value=0)
+        cells = mask.view(np.uint8)
         tall = cells.shape[0] > cells.shape[1]
         if tall:
             cells = np.ascontiguousarray(cells.T)
@@ -213,24 +234,7 @@ class BodyEstimator:
         opened = cv2.morphologyEx(filled, cv2.MORPH_OPEN, _disc(k, tall)).view(bool)
         if tall:
             opened = opened.T
-        return opened[top:top + mask.shape[0], left:left + mask.shape[1]] & mask
-
-
-def dense_crop(seg: Segment, box: tuple[slice, slice]) -> tuple[Grid, np.ndarray]:
-    """The segment's grid and mask in `box`, depth and positions copied into contiguous arrays:
-    the dozens of numpy operations on them then cost about half what they do on views of the
-    whole grid's rows, for less than one of them (the cell areas, seldom used, stay a view)."""
-    g = seg.grid.crop(box)
-    z, x, y, mask = (np.ascontiguousarray(a) for a in (g.z, g.x, g.y, seg.mask[box]))
-    return Grid(z, x, y, g.pixel_area_mm2, g.cell_x, g.cell_y), mask
-
-
-def _padding(box: tuple[slice, slice], shape: tuple[int, int], margin: int) -> tuple[int, int, int, int]:
-    """Empty cells (top, bottom, left, right) to pad `box` with: `margin`, or as many as the grid
-    has beyond it (at the grid's edge OpenCV's own border rule applies, as on the whole grid)."""
-    rows, cols = box
-    return (min(margin, rows.start), min(margin, shape[0] - rows.stop),
-            min(margin, cols.start), min(margin, shape[1] - cols.stop))
+        return opened & mask
 
 
 def _first_row_held(cells: np.ndarray) -> int | None:
