@@ -16,7 +16,7 @@ def median(a: np.ndarray) -> np.floating:
     """np.median of a non-empty 1-D array (the mean of the two middle values when even), in its dtype."""
     n = a.size
     half = n // 2
-    part = np.partition(a, half)
+    part = _partition(a, half)
     if n % 2:
         return part[half]
     return (_below(part, half) + part[half]) / 2
@@ -34,11 +34,11 @@ def percentile(a: np.ndarray, q: float) -> np.floating:
     """np.percentile(a, q) of a non-empty 1-D array, in its dtype."""
     lo, hi, gamma = _spot(a.size, q)
     if lo == hi:
-        return _between(*(np.partition(a, lo)[lo],) * 2, gamma)
+        return _between(*(_partition(a, lo)[lo],) * 2, gamma)
     if a.size - hi < lo:  # the two neighbours from one partial sort, then the few values past it
-        part = np.partition(a, lo)
+        part = _partition(a, lo)
         return _between(part[lo], part[hi:].min(), gamma)
-    part = np.partition(a, hi)
+    part = _partition(a, hi)
     return _between(_below(part, hi), part[hi], gamma)
 
 
@@ -59,3 +59,10 @@ def _below(part: np.ndarray, k: int) -> np.floating:
     """The (k-1)-th smallest value of an array partitioned at k: the largest before it (one partial
     sort at k and a max cost less than a partial sort at both k-1 and k)."""
     return part[:k].max()
+
+
+def _partition(a: np.ndarray, k: int) -> np.ndarray:
+    """np.partition(a, k) of a 1-D array, without np.partition's wrapper (a copy partitioned in place)."""
+    part = a.copy()
+    part.partition(k)
+    return part

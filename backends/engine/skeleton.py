@@ -197,7 +197,7 @@ class SkeletonEstimator:
     def _knee(self, out: list[Hand], beside: np.ndarray) -> bool:
         """Extended hands below the hips (`knee_above_hips_mm`) with a hand found beside the legs
         next to them (within a forearm) are a seated performer's knee."""
-        return all(_norm(np.subtract(h.position, beside)) < self.options.upper_arm_mm[1] for h in out)
+        return all(_distance(h.position, beside) < self.options.upper_arm_mm[1] for h in out)
 
     def _resting(self, view: _View, side: _Side, body: Body) -> tuple[np.ndarray, float, bool] | None:
         """The hand at the lowest end of the arm beside the legs, else the lowest part of the user
@@ -211,9 +211,10 @@ class SkeletonEstimator:
         legs = edge[(rows_y > legs_lo) & (rows_y < legs_hi) & np.isfinite(edge)]
         legs_edge = float(median(legs)) if legs.size >= 3 else o.legs_half_width_mm
         arm_rows = (rows_y < top) & (rows_y > bottom) & (edge > legs_edge + o.beside_legs_mm)
-        beside = bool(arm_rows.any())
+        arm_rows = np.flatnonzero(arm_rows)
+        beside = arm_rows.size > 0
         if beside:
-            tip = float(rows_y[self._fingertips(edge, np.flatnonzero(arm_rows))])
+            tip = float(rows_y[self._fingertips(edge, arm_rows)])
             band = _rows(rows_y, tip - 1, tip + o.palm_height_mm)
             out = side.out[band]
             palm = side.cells[band] & (out >= edge[band, None] - o.palm_width_mm) & (out > legs_edge)
@@ -261,15 +262,15 @@ class SkeletonEstimator:
         near = view.mask[band] & (np.abs(x - middle[0]) < 150)
         if not near.any():
             return None
-        cells = np.stack((x[near], g.y[band][near], g.z[band][near]))  # (3, n): summed row by row below
+        cells = np.array((x[near], g.y[band][near], g.z[band][near]))  # (3, n): summed row by row below
         offset = cells - middle[:, None]
-        i = int(np.argmin((offset * offset).sum(axis=0)))
-        cell = cells[:, i].astype(np.float64) + (0.0, 0.0, o.hand_depth_mm)
+        x, y, z = cells[:, int(np.argmin((offset * offset).sum(axis=0)))].tolist()
+        cell = (x, y, z + o.hand_depth_mm)
         lo, hi = o.upper_arm_mm
-        upper, fore = _norm(cell - shoulder), _norm(cell - hand)
+        upper, fore = _distance(cell, shoulder), _distance(cell, hand)
         if not (lo <= upper <= hi and lo <= fore <= hi):
             return None
-        return Joint(_vec(cell), 0.5)
+        return Joint(cell, 0.5)
 
 
 @dataclass(frozen=True)
@@ -310,10 +311,12 @@ def _row_heights(y: np.ndarray, mask: np.ndarray) -> np.ndarray:
     return np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
 
 
-def _norm(v: np.ndarray) -> float:
-    """np.linalg.norm of a 3-vector (the same float) without numpy's per-call cost."""
-    x, y, z = v.tolist()
-    return math.sqrt(x * x + y * y + z * z)
+def _distance(a: Vec3, b: np.ndarray) -> float:
+    """np.linalg.norm(np.subtract(a, b)) of 3-vectors (the same float) on Python floats, without
+    numpy's per-call cost."""
+    (ax, ay, az), (bx, by, bz) = a, b.tolist()
+    dx, dy, dz = ax - bx, ay - by, az - bz
+    return math.sqrt(dx * dx + dy * dy + dz * dz)
 
 
 def _vec(a: np.ndarray) -> Vec3:

@@ -78,7 +78,7 @@ class UserBox:
     the whole grid's rows. The body frame, the hand detector and the skeleton share one."""
 
     box: tuple[slice, slice]
-    grid: Grid  # depth and positions copied; the cell areas (seldom used) a view of the whole grid's
+    grid: Grid
     mask: np.ndarray
 
     @classmethod
@@ -88,8 +88,8 @@ class UserBox:
         if box is None:
             return None
         g = seg.grid.crop(box)
-        z, x, y, mask = (np.ascontiguousarray(a) for a in (g.z, g.x, g.y, seg.mask[box]))
-        return cls(box, Grid(z, x, y, g.pixel_area_mm2, g.cell_x, g.cell_y), mask)
+        z, x, y, area, mask = (np.ascontiguousarray(a) for a in (g.z, g.x, g.y, g.pixel_area_mm2, seg.mask[box]))
+        return cls(box, Grid(z, x, y, area, g.cell_x, g.cell_y), mask)
 
 
 class BodyEstimator:
@@ -221,20 +221,20 @@ class BodyEstimator:
     @staticmethod
     def _open(mask: np.ndarray, k: int) -> np.ndarray:
         """The cells of `mask` (a user box's) that remain after removing everything thinner than a
-        k-cell disc. One-cell holes (missing
-        readings, the shadow a depth sensor casts beside an arm) are filled for the shape but left
-        out of the result: they have no depth to take a median of. A standing body is taller than
-        wide: OpenCV's filters run faster along long rows, so the picture and the disc are
-        transposed then (the same result)."""
+        k-cell disc. One-cell holes (missing readings, the shadow a depth sensor casts beside an
+        arm) are filled for the shape but left out of the result: they have no depth to take a
+        median of. A standing body is taller than wide: OpenCV's filters run faster along long
+        rows, so the picture and the disc are transposed then (the same result; cv2.transpose
+        copies faster than numpy)."""
         cells = mask.view(np.uint8)
         tall = cells.shape[0] > cells.shape[1]
         if tall:
-            cells = np.ascontiguousarray(cells.T)
+            cells = cv2.transpose(cells)
         filled = cv2.morphologyEx(cells, cv2.MORPH_CLOSE, _HOLE)
-        opened = cv2.morphologyEx(filled, cv2.MORPH_OPEN, _disc(k, tall)).view(bool)
+        opened = cv2.morphologyEx(filled, cv2.MORPH_OPEN, _disc(k, tall))
         if tall:
-            opened = opened.T
-        return opened & mask
+            opened = cv2.transpose(opened)
+        return opened.view(bool) & mask
 
 
 def _first_row_held(cells: np.ndarray) -> int | None:
