@@ -96,7 +96,7 @@ class SkeletonEstimator:
         """This frame's skeleton. `extended`: the tracker's hands that stick out of the body (in view
         or held), whose sides are the performer's."""
         o = self.options = self.anatomy.at(body.scale)  # a child's limbs
-        view = _View.of(seg, body, o.behind_mm)
+        view = _View.of(seg, body, o)
         torso = body.torso
         neck = np.array([torso[0], body.shoulder_y, torso[2]])
         joints = {"head": Joint(_vec(body.head), 1.0), "neck": Joint(_vec(neck), 1.0), "torso": Joint(_vec(torso), 1.0)}
@@ -182,15 +182,15 @@ class SkeletonEstimator:
         """One side's cells (beside the spine, not behind the trunk) and its outline's outer edge per row."""
         out = outwards * view.dx
         cells = view.near & (out > 40)
-        return _Side(out, cells, np.where(cells, out, -np.inf).max(axis=1))
+        edge = np.where(cells, out, -np.inf).max(axis=1)
+        return _Side(out, cells, edge, np.isfinite(edge))
 
     def _shoulder(self, view: _View, side: _Side, body: Body, outwards: float) -> np.ndarray:
         """On the shoulder line, inside the outline's outer edge there (an arm raised beside the
         head widens the outline: the anatomical bounds keep the joint on the trunk)."""
         o = self.options
         lo, hi = o.shoulder_half_width_mm
-        edge = side.edge[np.abs(view.rows_y - (body.shoulder_y - 60)) < 60]
-        edge = edge[np.isfinite(edge)]
+        edge = side.edge[view.shoulder_rows & side.seen]
         half = min(hi, max(lo, float(median(edge)) - o.shoulder_inside_edge_mm)) if edge.size else 0.5 * (lo + hi)
         return np.array([body.torso[0] + outwards * half, body.shoulder_y, body.surface_z + o.joint_depth_mm])
 
@@ -204,14 +204,10 @@ class SkeletonEstimator:
         on this side held in front of the trunk's plane; None when the depth shows neither. The
         flag says whether it was found beside the legs."""
         o, g, rows_y, edge = self.options, view.grid, view.rows_y, side.edge
-        top = body.shoulder_y - o.forearm_below_shoulder_mm
-        bottom = body.shoulder_y - o.arm_length_mm
         # The legs' outer edge: the median over the thighs' rows, where legs are seen.
-        legs_lo, legs_hi = body.hip_y - o.legs_below_hips_mm[1], body.hip_y - o.legs_below_hips_mm[0]
-        legs = edge[(rows_y > legs_lo) & (rows_y < legs_hi) & np.isfinite(edge)]
+        legs = edge[view.thigh_rows & side.seen]
         legs_edge = float(median(legs)) if legs.size >= 3 else o.legs_half_width_mm
-        arm_rows = (rows_y < top) & (rows_y > bottom) & (edge > legs_edge + o.beside_legs_mm)
-        arm_rows = np.flatnonzero(arm_rows)
+        arm_rows = np.flatnonzero(view.forearm_rows & (edge > legs_edge + o.beside_legs_mm))
         beside = arm_rows.size > 0
         if beside:
             tip = float(rows_y[self._fingertips(edge, arm_rows)])
@@ -220,7 +216,7 @@ class SkeletonEstimator:
             palm = side.cells[band] & (out >= edge[band, None] - o.palm_width_mm) & (out > legs_edge)
         else:
             # Before the lower body: the lowest cells of this side in front of the trunk's plane.
-            band = _rows(rows_y, bottom, top)
+            band = _rows(rows_y, body.shoulder_y - o.arm_length_mm, body.shoulder_y - o.forearm_below_shoulder_mm)
             front = side.cells[band] & (body.surface_z - g.z[band] > o.in_front_mm)
             if not front.any():
                 return None
@@ -282,13 +278,21 @@ class _View:
     dx: np.ndarray  # mm sideways from the spine (image right +)
     near: np.ndarray  # user cells not behind the trunk's surface (no chair, no wall beside the user)
     rows_y: np.ndarray  # each row's height (mm), NaN where the row has no user cell
+    # the rows (both sides look at the same) ...
+    shoulder_rows: np.ndarray  # ... of the shoulder joint's outline: at most 120 mm below the shoulder line
+    thigh_rows: np.ndarray  # ... whose outline is the thighs' width
+    forearm_rows: np.ndarray  # ... a hanging arm's lower part is looked for in
 
     @classmethod
-    def of(cls, seg: Segment, body: Body, behind_mm: float) -> "_View":
+    def of(cls, seg: Segment, body: Body, o: SkeletonOptions) -> "_View":
         user = body.user if body.user is not None else UserBox.of(seg)
         grid, mask = user.grid, user.mask
-        return cls(grid, mask, grid.x - float(body.torso[0]), mask & (grid.z - body.surface_z < behind_mm),
-                   _row_heights(grid.y, mask))
+        rows_y = _row_heights(grid.y, mask)
+        legs_lo, legs_hi = body.hip_y - o.legs_below_hips_mm[1], body.hip_y - o.legs_below_hips_mm[0]
+        top, bottom = body.shoulder_y - o.forearm_below_shoulder_mm, body.shoulder_y - o.arm_length_mm
+        return cls(grid, mask, grid.x - float(body.torso[0]), mask & (grid.z - body.surface_z < o.behind_mm),
+                   rows_y, np.abs(rows_y - (body.shoulder_y - 60)) < 60, (rows_y > legs_lo) & (rows_y < legs_hi),
+                   (rows_y < top) & (rows_y > bottom))
 
 
 @dataclass(frozen=True)
@@ -296,6 +300,7 @@ class _Side:
     out: np.ndarray  # mm outwards from the spine on this side
     cells: np.ndarray  # this side's cells of the view's `near`
     edge: np.ndarray  # per row, the outermost of them (-inf: none)
+    seen: np.ndarray  # the rows holding some of them (a finite edge)
 
 
 def _rows(rows_y: np.ndarray, low: float, high: float) -> slice:
