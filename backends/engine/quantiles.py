@@ -33,8 +33,9 @@ def percentiles(a: np.ndarray, qs: tuple[float, ...]) -> list[np.floating]:
 def percentile(a: np.ndarray, q: float) -> np.floating:
     """np.percentile(a, q) of a non-empty 1-D array, in its dtype."""
     lo, hi, gamma = _spot(a.size, q)
-    if lo == hi:
-        return _between(*(_partition(a, lo)[lo],) * 2, gamma)
+    if lo == hi:  # the first or the last value
+        value = _partition(a, lo)[lo]
+        return _between(value, value, gamma)
     if a.size - hi < lo:  # the two neighbours from one partial sort, then the few values past it
         part = _partition(a, lo)
         return _between(part[lo], part[hi:].min(), gamma)
