@@ -45,7 +45,7 @@ class OneEuroFilter:
             return x
         if t <= self._t:  # the same instant again (or a clock that went back): nothing new to filter
             return self._x
-        # On Python floats: a 3-vector's few operations cost less so than as numpy calls (the same
+        # On Python floats: a 3-vector's few operations cost less than as numpy calls (the same
         # IEEE arithmetic, element by element; the norm summed in numpy's order).
         dt = t - self._t
         o = self.options
