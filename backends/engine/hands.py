@@ -19,7 +19,6 @@ elbow). All in mm.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import cv2
@@ -29,6 +28,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from backends.engine.anatomy import Anatomy
 from backends.engine.trunk import Body, UserBox
 from backends.engine.segmentation import ONE_CELL_GAP, Grid, Segment
+from backends.engine.vectors import distance
 
 
 #: (each cell, its neighbour) as slices of a grid: the neighbours below, above, right and left (for
@@ -127,7 +127,7 @@ class HandDetector:
                 if self._elbow(position, body, neck):
                     continue
                 at_border = on_border is not None and bool(on_border[palm].any())
-                reach = _norm(pts[tip] - neck)
+                reach = distance(pts[tip], neck)
                 if reach < o.min_reach_mm:
                     continue
                 # Sides: by where the arm joins the body; for two hands of one patch, by each hand.
@@ -139,7 +139,7 @@ class HandDetector:
         found.sort(key=lambda c: -c.reach)
         kept: list[Candidate] = []
         for c in found:  # two patches of one arm (cut by the head's clearance) are one hand
-            if all(_norm(c.position - k.position) > o.hands_apart_mm for k in kept):
+            if all(distance(c.position, k.position) > o.hands_apart_mm for k in kept):
                 kept.append(c)
         return kept[: o.max_hands]
 
@@ -224,7 +224,7 @@ class HandDetector:
 
     def _elbow(self, position: np.ndarray, body: Body, neck: np.ndarray) -> bool:
         """Below the shoulders, behind the spine and within an upper arm of the shoulder: an elbow."""
-        near = _norm(position - self._shoulder(position[0], neck)) < self.options.elbow_reach_mm
+        near = distance(position, self._shoulder(position[0], neck)) < self.options.elbow_reach_mm
         return bool(position[1] < body.shoulder_y and position[2] > body.torso[2] and near)
 
     def _one_per_arm(self, found: list[Candidate], neck: np.ndarray) -> list[Candidate]:
@@ -234,7 +234,7 @@ class HandDetector:
         best: dict[bool, tuple[float, Candidate]] = {}
         for c in found:
             right = bool(c.root[0] > neck[0])
-            d = _norm(c.position - self._shoulder(c.root[0], neck))
+            d = distance(c.position, self._shoulder(c.root[0], neck))
             if right not in best or d > best[right][0]:
                 best[right] = (d, c)
         return [c for _, c in best.values()]
@@ -282,9 +282,3 @@ def _distances(pts: np.ndarray, point: np.ndarray) -> np.ndarray:
     """np.linalg.norm(pts - point, axis=1): the same floats, without its generality's cost."""
     d = pts - point
     return np.sqrt((d * d).sum(axis=1))
-
-
-def _norm(v: np.ndarray) -> float:
-    """np.linalg.norm of a 3-vector (the same float) without numpy's per-call cost."""
-    x, y, z = v.tolist()
-    return math.sqrt(x * x + y * y + z * z)

@@ -26,7 +26,7 @@ def percentiles(a: np.ndarray, qs: tuple[float, ...]) -> list[np.floating]:
     """np.percentile(a, q) for each q (linear interpolation) of a non-empty 1-D array, one partial sort."""
     n = a.size
     spots = [_spot(n, q) for q in qs]
-    part = np.partition(a, sorted({i for lo, hi, _ in spots for i in (lo, hi)}))
+    part = _partition(a, sorted({i for lo, hi, _ in spots for i in (lo, hi)}))
     return [_between(part[lo], part[hi], gamma) for lo, hi, gamma in spots]
 
 
@@ -62,8 +62,9 @@ def _below(part: np.ndarray, k: int) -> np.floating:
     return part[:k].max()
 
 
-def _partition(a: np.ndarray, k: int) -> np.ndarray:
-    """np.partition(a, k) of a 1-D array, without np.partition's wrapper (a copy partitioned in place)."""
+def _partition(a: np.ndarray, k: int | list[int]) -> np.ndarray:
+    """np.partition(a, k) of a 1-D array (k: one position or several), without np.partition's
+    wrapper (a copy partitioned in place)."""
     part = a.copy()
     part.partition(k)
     return part

@@ -28,6 +28,7 @@ from backends.engine.anatomy import Anatomy
 from backends.engine.quantiles import median
 from backends.engine.segmentation import Grid, Segment
 from backends.engine.trunk import Body, UserBox
+from backends.engine.vectors import distance
 from backends.users import hand_id
 from host import Hand, HandState, Joint, Side, Vec3
 
@@ -197,7 +198,7 @@ class SkeletonEstimator:
     def _knee(self, out: list[Hand], beside: np.ndarray) -> bool:
         """Extended hands below the hips (`knee_above_hips_mm`) with a hand found beside the legs
         next to them (within a forearm) are a seated performer's knee."""
-        return all(_distance(h.position, beside) < self.options.upper_arm_mm[1] for h in out)
+        return all(distance(h.position, beside) < self.options.upper_arm_mm[1] for h in out)
 
     def _resting(self, view: _View, side: _Side, body: Body) -> tuple[np.ndarray, float, bool] | None:
         """The hand at the lowest end of the arm beside the legs, else the lowest part of the user
@@ -263,7 +264,7 @@ class SkeletonEstimator:
         x, y, z = cells[:, int(np.argmin((offset * offset).sum(axis=0)))].tolist()
         cell = (x, y, z + o.hand_depth_mm)
         lo, hi = o.upper_arm_mm
-        upper, fore = _distance(cell, shoulder), _distance(cell, hand)
+        upper, fore = distance(cell, shoulder), distance(cell, hand)
         if not (lo <= upper <= hi and lo <= fore <= hi):
             return None
         return Joint(cell, 0.5)
@@ -314,14 +315,6 @@ def _row_heights(y: np.ndarray, mask: np.ndarray) -> np.ndarray:
     counts = mask.sum(axis=1)  # np.count_nonzero along an axis costs twice as much
     sums = (y * mask).sum(axis=1)
     return np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
-
-
-def _distance(a: Vec3, b: np.ndarray) -> float:
-    """np.linalg.norm(np.subtract(a, b)) of 3-vectors (the same float) on Python floats, without
-    numpy's per-call cost."""
-    (ax, ay, az), (bx, by, bz) = a, b.tolist()
-    dx, dy, dz = ax - bx, ay - by, az - bz
-    return math.sqrt(dx * dx + dy * dy + dz * dz)
 
 
 def _vec(a: np.ndarray) -> Vec3:

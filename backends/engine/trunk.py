@@ -237,21 +237,24 @@ class BodyEstimator:
         return opened.view(bool) & mask
 
 
+ROW_HELD = 2  # a row holding this many of a silhouette's cells is part of it (one cell is noise)
+
+
 def _first_row_held(cells: np.ndarray) -> int | None:
     """The top row of `_rows_held` (None: no such row). The box's top row is most often it:
     counting the cells of a row or two costs less than counting every row's."""
     picture = cells.view(np.uint8)
     _, top, _, height = cv2.boundingRect(picture)
     for row in range(top, top + height):
-        if cv2.countNonZero(picture[row]) >= 2:
+        if cv2.countNonZero(picture[row]) >= ROW_HELD:
             return row
     return None
 
 
 def _rows_held(cells: np.ndarray) -> np.ndarray:
-    """The rows holding two or more of the cells, top to bottom (one cell is noise): where a
-    silhouette's top and bottom are looked for."""
-    return np.flatnonzero(np.count_nonzero(cells, axis=1) >= 2)
+    """The rows holding `ROW_HELD` or more of the cells, top to bottom: where a silhouette's top
+    and bottom are looked for."""
+    return np.flatnonzero(np.count_nonzero(cells, axis=1) >= ROW_HELD)
 
 
 def _height_above_feet(seg: Segment, crown: float) -> float | None:
