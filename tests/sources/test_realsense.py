@@ -161,4 +161,7 @@ def test_issv_record_keeps_a_realsense_take_like_any_source(bag, tmp_path):
     out = record_profile(prof, tmp_path / "take.mcap", "--frames", "10")
     with Recording(out) as rec:
         frames = list(rec.frames())
-    assert len(frames) == 10 and np.array_equal(frames[3].depth.data, written[3])
+    # each recorded frame is one of the take's, bit for bit, in the take's order (a busy machine may
+    # drop one between the source's thread and the show: newest wins, as with a camera)
+    ids = delivered([f.depth for f in frames], written)
+    assert len(frames) == 10 and ids == sorted(set(ids))
