@@ -389,8 +389,7 @@ class Segmenter:
         o = self.options
         if count <= 1:
             return []
-        flat = labels.ravel().astype(np.intp)  # bincount's index type: converted once for all of them
-        n, sum_z, zz, sum_x, sum_y = _per_surface(flat, count, g.z, g.z.astype(np.float64) ** 2, g.x, g.y)
+        n, sum_z, zz, sum_x, sum_y = _per_surface(labels.ravel(), count, g.z, g.z.astype(np.float64) ** 2, g.x, g.y)
         n = np.maximum(n, 1)  # cells per surface (with readings)
         mean_z = sum_z / n
         area = zz * (g.cell_x * g.cell_y)  # a cell covers its depth squared times its solid angle
@@ -438,8 +437,7 @@ class Segmenter:
         owner[part] = np.argmin(np.where(within, distance, np.inf), axis=1)[part]
         owner[people] = np.arange(len(people))
         owner[piece_of >= 0] = piece_of[piece_of >= 0]
-        owned = owner.take(labels)
-        return [(owned == k, centres[p]) for k, p in enumerate(people)]
+        return [(_labelled(labels, np.flatnonzero(owner == k)), centres[p]) for k, p in enumerate(people)]
 
     def _whose(self, g: Grid, labels: np.ndarray, count: int, n: np.ndarray) -> np.ndarray:
         """For each surface, the person of the last frame (their index) over 30 % of its cells were,
@@ -506,6 +504,15 @@ def _boxes(labels: np.ndarray, which: np.ndarray) -> np.ndarray:
     return boxes
 
 
+def _labelled(labels: np.ndarray, which: np.ndarray) -> np.ndarray:
+    """The cells of any of the labels `which`. A person is one surface or a few: comparing the
+    labels with each costs less than looking up every cell's owner."""
+    mask = labels == which[0]
+    for k in which[1:]:
+        mask |= labels == k
+    return mask
+
+
 def _per_surface(flat: np.ndarray, count: int, *weights: np.ndarray) -> list[np.ndarray]:
     """Per label of the flattened label image `flat`: its cells, and the sum
     of each of `weights` (arrays of the image's shape) over them, in float64.
@@ -515,7 +522,7 @@ def _per_surface(flat: np.ndarray, count: int, *weights: np.ndarray) -> list[np.
     before (twice as slow on these images). The depths and their squares are whole numbers, so
     their sums are exact either way."""
     starts = np.concatenate(([0], np.flatnonzero(flat[1:] != flat[:-1]) + 1))
-    label = flat[starts]
+    label = flat[starts].astype(np.intp)  # bincount's index type: converted once for all of them
     cells = np.bincount(label, weights=np.diff(starts, append=flat.size), minlength=count).astype(np.int64)
     return [cells] + [np.bincount(label, weights=np.add.reduceat(w.ravel(), starts, dtype=np.float64), minlength=count)
                       for w in weights]
