@@ -285,7 +285,10 @@ class Segmenter:
         valid = valid | bridge
         # A cell is cut when a neighbour is nearer by more than the threshold at the neighbour's
         # depth: z - n > edge + ratio * n, i.e. the nearest neighbour n < (z - edge) / (1 + ratio).
-        nearest = cv2.erode(np.where(valid, z, np.float32(np.inf)), ONE_CELL_GAP)
+        # A cell without a reading is nobody's nearest: +inf. Those are now exactly the cells at
+        # z = 0 (a bridge has its neighbour's depth), which one threshold finds faster than np.where.
+        nowhere = cv2.threshold(z, 0, np.inf, cv2.THRESH_BINARY_INV)[1]  # +inf at z <= 0, else 0
+        nearest = cv2.erode(nowhere + z, ONE_CELL_GAP)
         o = self.options
         keep = valid & (nearest >= (z - np.float32(o.edge_mm)) / np.float32(1 + o.edge_ratio))
         count, labels = cv2.connectedComponents(keep.view(np.uint8), connectivity=4)
