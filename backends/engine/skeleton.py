@@ -183,8 +183,10 @@ class SkeletonEstimator:
         """One side's cells (beside the spine, not behind the trunk) and its outline's outer edge per row."""
         out = outwards * view.dx
         cells = view.near & (out > 40)
-        edge = np.where(cells, out, -np.inf).max(axis=1)
-        return _Side(out, cells, edge, np.isfinite(edge))
+        edge = (out * cells).max(axis=1)  # 0 in a row without cells (its cells are all > 40 out)
+        seen = edge > 0
+        edge[~seen] = -np.inf
+        return _Side(out, cells, edge, seen)
 
     def _shoulder(self, view: _View, side: _Side, body: Body, outwards: float) -> np.ndarray:
         """On the shoulder line, inside the outline's outer edge there (an arm raised beside the
