@@ -407,15 +407,16 @@ class Segmenter:
         person &= ext_w <= o.max_user_width_mm
         tall = ext_h >= o.min_user_height_mm
         top, bottom = boxes[:, 1], boxes[:, 1] + boxes[:, 3]
-        for k in np.flatnonzero(person & ~tall & (bottom >= labels.shape[0]) & (top > 0)):
+        # Labels as Python ints: an int32 image compared with a numpy int64 would be converted first.
+        for k in np.flatnonzero(person & ~tall & (bottom >= labels.shape[0]) & (top > 0)).tolist():
             tall[k] = self._head_and_shoulders(g, labels, boxes[k], k)
         person &= tall
-        for k in np.flatnonzero(person & (bottom < labels.shape[0])):
+        for k in np.flatnonzero(person & (bottom < labels.shape[0])).tolist():
             person[k] = self._stands_on_something(g, labels, boxes[k], k, mean_z[k])
         if not person.any():
             return []
         sized = person.copy()
-        for k in np.flatnonzero(sized):
+        for k in np.flatnonzero(sized).tolist():
             person[k] = self._enclosed(g, labels, sized, boxes[k], k, mean_z[k]) <= o.max_enclosed
         if not person.any():
             return []
@@ -440,7 +441,7 @@ class Segmenter:
         owner[part] = np.argmin(np.where(within, distance, np.inf), axis=1)[part]
         owner[people] = np.arange(len(people))
         owner[piece_of >= 0] = piece_of[piece_of >= 0]
-        return [(_labelled(labels, np.flatnonzero(owner == k)), centres[p]) for k, p in enumerate(people)]
+        return [(_labelled(labels, np.flatnonzero(owner == k).tolist()), centres[p]) for k, p in enumerate(people)]
 
     def _whose(self, g: Grid, labels: np.ndarray, count: int, n: np.ndarray) -> np.ndarray:
         """For each surface, the person of the last frame (their index) over 30 % of its cells were,
@@ -468,11 +469,11 @@ class Segmenter:
         the person (index among them) it is a piece of, or -1."""
         piece_of = np.full(whose.size, -1)
         kept: list[int] = []
-        for p in people:
+        for p in people.tolist():
             if piece_of[p] >= 0:
                 continue
             piece_of[p] = len(kept)
-            others = [q for q in np.flatnonzero(whose == whose[p]) if q != p] if whose[p] >= 0 else []
+            others = [q for q in np.flatnonzero(whose == whose[p]).tolist() if q != p] if whose[p] >= 0 else []
             depth = median(g.z[labels == p]) if others else None
             for q in others:
                 piece = labels == q
@@ -502,12 +503,12 @@ def _boxes(labels: np.ndarray, which: np.ndarray) -> np.ndarray:
     """One row (x, y, w, h) per label: the bounding box of each label in `which`, zeros for the
     rest (only the few surfaces that could be people need one)."""
     boxes = np.zeros((len(which), 4), np.int64)
-    for k in np.flatnonzero(which):
+    for k in np.flatnonzero(which).tolist():
         boxes[k] = cv2.boundingRect((labels == k).view(np.uint8))
     return boxes
 
 
-def _labelled(labels: np.ndarray, which: np.ndarray) -> np.ndarray:
+def _labelled(labels: np.ndarray, which: list[int]) -> np.ndarray:
     """The cells of any of the labels `which`. A person is one surface or a few: comparing the
     labels with each costs less than looking up every cell's owner."""
     mask = labels == which[0]
