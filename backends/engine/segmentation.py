@@ -407,16 +407,15 @@ class Segmenter:
         person &= ext_w <= o.max_user_width_mm
         tall = ext_h >= o.min_user_height_mm
         top, bottom = boxes[:, 1], boxes[:, 1] + boxes[:, 3]
-        # Labels as Python ints: an int32 image compared with a numpy int64 would be converted first.
-        for k in np.flatnonzero(person & ~tall & (bottom >= labels.shape[0]) & (top > 0)).tolist():
+        for k in _indices(person & ~tall & (bottom >= labels.shape[0]) & (top > 0)):
             tall[k] = self._head_and_shoulders(g, labels, boxes[k], k)
         person &= tall
-        for k in np.flatnonzero(person & (bottom < labels.shape[0])).tolist():
+        for k in _indices(person & (bottom < labels.shape[0])):
             person[k] = self._stands_on_something(g, labels, boxes[k], k, mean_z[k])
         if not person.any():
             return []
         sized = person.copy()
-        for k in np.flatnonzero(sized).tolist():
+        for k in _indices(sized):
             person[k] = self._enclosed(g, labels, sized, boxes[k], k, mean_z[k]) <= o.max_enclosed
         if not person.any():
             return []
@@ -441,7 +440,7 @@ class Segmenter:
         owner[part] = np.argmin(np.where(within, distance, np.inf), axis=1)[part]
         owner[people] = np.arange(len(people))
         owner[piece_of >= 0] = piece_of[piece_of >= 0]
-        return [(_labelled(labels, np.flatnonzero(owner == k).tolist()), centres[p]) for k, p in enumerate(people)]
+        return [(_labelled(labels, _indices(owner == k)), centres[p]) for k, p in enumerate(people)]
 
     def _whose(self, g: Grid, labels: np.ndarray, count: int, n: np.ndarray) -> np.ndarray:
         """For each surface, the person of the last frame (their index) over 30 % of its cells were,
@@ -469,11 +468,11 @@ class Segmenter:
         the person (index among them) it is a piece of, or -1."""
         piece_of = np.full(whose.size, -1)
         kept: list[int] = []
-        for p in people.tolist():
+        for p in people.tolist():  # Python ints (`_indices`)
             if piece_of[p] >= 0:
                 continue
             piece_of[p] = len(kept)
-            others = [q for q in np.flatnonzero(whose == whose[p]).tolist() if q != p] if whose[p] >= 0 else []
+            others = [q for q in _indices(whose == whose[p]) if q != p] if whose[p] >= 0 else []
             depth = median(g.z[labels == p]) if others else None
             for q in others:
                 piece = labels == q
@@ -503,9 +502,15 @@ def _boxes(labels: np.ndarray, which: np.ndarray) -> np.ndarray:
     """One row (x, y, w, h) per label: the bounding box of each label in `which`, zeros for the
     rest (only the few surfaces that could be people need one)."""
     boxes = np.zeros((len(which), 4), np.int64)
-    for k in np.flatnonzero(which).tolist():
+    for k in _indices(which):
         boxes[k] = cv2.boundingRect((labels == k).view(np.uint8))
     return boxes
+
+
+def _indices(which: np.ndarray) -> list[int]:
+    """Where `which` is true, as Python ints: surface labels to compare the label image with (an
+    int32 image compared with a numpy int64 is first converted whole to int64)."""
+    return np.flatnonzero(which).tolist()
 
 
 def _labelled(labels: np.ndarray, which: list[int]) -> np.ndarray:
