@@ -167,3 +167,16 @@ def test_a_real_swipe_across_the_chest_leaves_the_bodys_depth_where_it_was(take)
     tracker = HandTracker()
     depths = [tracker.process(clip.frame(i, i)).body["torso"][2] for i in range(len(clip))]
     assert np.ptp(depths) <= 40, np.ptp(depths)
+
+
+def test_cells_without_readings_cut_no_surface():
+    """A patch without readings (a dark or shiny object) is nothing near: the cells around it stay
+    one surface with the rest; a column of dropped readings joins the two sides; neither is part of it."""
+    z = np.full((40, 60), 2000, np.float32)
+    z[10:15, 10:15] = 0  # a patch without readings
+    z[:, 30] = 0  # a column of dropped readings
+    flat = np.zeros_like(z)
+    grid = segmentation.Grid(z, flat, flat, flat, 0.01, 0.01)
+    count, labels = Segmenter(SegmentationOptions(floor=False))._surfaces(grid, z > 0)
+    assert count == 2  # the background label and one surface
+    assert (labels[z > 0] == 1).all() and (labels[z == 0] == 0).all()
