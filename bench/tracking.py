@@ -2,9 +2,9 @@
 
 (a) speed: each engine backend's per-frame work (geometry conversion + Engine.track: people,
     bodies and hands; the gesture recogniser is timed by bench.gestures) on the synthetic performer's default show,
-    rendered beforehand at 320x240 and 640x480 (rendering is not timed), pinned to one core: wall
-    time and the thread's CPU time (the target: <= 3 ms per 640x480 frame with one performer; two
-    performers: bench.users).
+    rendered beforehand at 320x240 and 640x480 (rendering is not timed), pinned to one core, the
+    backends taking turns (time_backends): wall time and the thread's CPU time (the target: <= 3 ms
+    per 640x480 frame with one performer; two performers: bench.users).
 (b) accuracy: on the UTD-MHAD dev clips (utd-mhad-dev in --data), in the frames where a
     skeleton hand is extended (score.py's rule: 200 mm in front of the spine, 350 mm beside it, or
     above the head), the share with a reported hand within 250 mm and the distance to the nearest
@@ -24,7 +24,7 @@ import glob
 import os
 import time
 from collections import Counter, defaultdict
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import cv2
 import numpy as np
@@ -40,6 +40,7 @@ from sources.synthetic import SyntheticOptions, SyntheticSource
 SIZES = ((320, 240), (640, 480))
 LEADS_TRIED = np.arange(0.5, 2.51, 0.125)  # frames: where the skeleton's lead is looked for
 SURFACE_WINDOW_PX = 25  # depth readings this many pixels around a projected hand joint are searched
+TURN_FRAMES = 5  # the timed backends take turns every this many frames (time_backends)
 
 
 def engine_backends() -> list[type[EngineBackend]]:
@@ -62,19 +63,30 @@ def synthetic_frames(size: tuple[int, int], seconds: float = 12.0):
     return out
 
 
-def time_backend(cls: type[EngineBackend], depth_frames) -> tuple[list[float], list[float]]:
-    """ms per frame: wall time and this thread's CPU time (what the target counts: other
-    processes on a shared machine stretch the first, hardly the second)."""
-    engine = cls().build_engine()
-    wall, cpu = [], []
-    for frame in depth_frames:
-        start, thread = time.perf_counter(), time.thread_time()
-        if cls.geometry is not None:
-            frame = to_geometry(frame, *cls.geometry)
-        engine.track(frame)
-        wall.append((time.perf_counter() - start) * 1000)
-        cpu.append((time.thread_time() - thread) * 1000)
-    return wall[5:], cpu[5:]  # the first frames build per-geometry caches
+def time_backends(classes: list[type[EngineBackend]], depth_frames) -> dict:
+    """{backend: (wall, CPU ms per frame)}; the thread's CPU time is what the target counts (other
+    processes on a shared machine stretch the wall time, hardly the CPU time).
+
+    The backends take turns every `TURN_FRAMES` frames, so a slow spell of the machine falls on all
+    of them alike, not on whichever ran then: identical engines timed one after the other differed
+    by 20 %, in turns they agree within 4 %. Not frame by frame: an engine whose data the others
+    have just pushed out of the cache runs 10 % slower than on its own (as it runs on stage); in
+    turns of five only the first frame of a turn does, which hardly moves the median. Each reads
+    its own copy of the frames, not one another backend has just brought into the cache."""
+    runs = [(cls, cls().build_engine(), [replace(f, data=f.data.copy()) for f in depth_frames]) for cls in classes]
+    times = {cls: ([], []) for cls in classes}
+    for turn, first in enumerate(range(0, len(depth_frames), TURN_FRAMES)):
+        for cls, engine, frames in runs[turn % len(runs):] + runs[:turn % len(runs)]:
+            for i in range(first, min(first + TURN_FRAMES, len(frames))):
+                frame = frames[i]
+                start, thread = time.perf_counter(), time.thread_time()
+                if cls.geometry is not None:
+                    frame = to_geometry(frame, *cls.geometry)
+                engine.track(frame)
+                if i >= 5:  # the first frames build per-geometry caches
+                    times[cls][0].append((time.perf_counter() - start) * 1000)
+                    times[cls][1].append((time.thread_time() - thread) * 1000)
+    return times
 
 
 def extended(p: np.ndarray, body: np.ndarray) -> bool:
@@ -206,11 +218,13 @@ def main() -> None:
     errors_by_geometry: dict = {}  # backends that see the same frames track them identically
     skeleton = skeleton_reference(files) if files else None
     lead = skeleton.lead if skeleton else 0.0
-    for cls in engine_backends():
+    classes = engine_backends()
+    timed = {size: time_backends(classes, frames) for size, frames in rendered.items()}
+    for cls in classes:
         entry: dict = {}
         row: list = [cls.name]
         for size in SIZES:
-            wall, cpu = time_backend(cls, rendered[size])
+            wall, cpu = timed[size][cls]
             p, c = percentiles(wall, (50, 90)), percentiles(cpu, (50, 90))
             entry[f"ms_{size[0]}x{size[1]}"] = {"median": p["p50"], "p90": p["p90"]}
             entry[f"cpu_ms_{size[0]}x{size[1]}"] = {"median": c["p50"], "p90": c["p90"]}
