@@ -63,18 +63,20 @@ def synthetic_frames(size: tuple[int, int], seconds: float = 12.0):
     return out
 
 
-def time_backends(classes: list[type[EngineBackend]], depth_frames) -> dict:
+def time_backends(classes: list[type[EngineBackend]],
+                  depth_frames) -> dict[type[EngineBackend], tuple[list[float], list[float]]]:
     """{backend: (wall, CPU ms per frame)}; the thread's CPU time is what the target counts (other
     processes on a shared machine stretch the wall time, hardly the CPU time).
 
     The backends take turns every `TURN_FRAMES` frames, so a slow spell of the machine falls on all
     of them alike, not on whichever ran then: identical engines timed one after the other differed
-    by 20 %, in turns they agree within 4 %. Not frame by frame: an engine whose data the others
-    have just pushed out of the cache runs 10 % slower than on its own (as it runs on stage); in
-    turns of five only the first frame of a turn does, which hardly moves the median. Each reads
-    its own copy of the frames, not one another backend has just brought into the cache."""
+    by up to a third (3.5 and 4.7 ms in one run), in turns they agree within 4 %. Not frame by
+    frame: an engine whose data the others have just pushed out of the cache runs 11 % slower than
+    on its own (as it runs on stage); in turns of five only the first frame of a turn does, which
+    hardly moves the median. Each reads its own copy of the frames, not one another backend has
+    just brought into the cache."""
     runs = [(cls, cls().build_engine(), [replace(f, data=f.data.copy()) for f in depth_frames]) for cls in classes]
-    times = {cls: ([], []) for cls in classes}
+    times: dict[type[EngineBackend], tuple[list[float], list[float]]] = {cls: ([], []) for cls in classes}
     for turn, first in enumerate(range(0, len(depth_frames), TURN_FRAMES)):
         for cls, engine, frames in runs[turn % len(runs):] + runs[:turn % len(runs)]:
             for i in range(first, min(first + TURN_FRAMES, len(frames))):
