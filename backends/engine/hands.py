@@ -26,7 +26,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.anatomy import Anatomy
-from backends.engine.trunk import Body, UserBox
+from backends.engine.trunk import Body
 from backends.engine.segmentation import ONE_CELL_GAP, Grid, Segment
 from backends.engine.vectors import distance
 
@@ -91,11 +91,8 @@ class HandDetector:
         o = self.options = self.anatomy.at(body.scale)  # the body's size: a child's arms and palms
         # Only the user's cells count, and the gap bridging reaches two cells out: the user's box
         # that much wider is all there is to look at.
-        user = body.user if body.user is not None else UserBox.of(seg)
-        if user is None:
-            return []
-        box, g, mask = user.box, user.grid, user.mask
-        cand, near = self._extended(g, mask, body.core[box], body)
+        box, g, mask = body.user.box, body.user.grid, body.user.mask
+        cand, near = self._extended(g, mask, body.core, body)
         if not cand.any():
             return []
         # One-cell gaps (dropped readings) do not cut an arm in two; the gap cells stay out of it.

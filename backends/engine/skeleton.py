@@ -26,8 +26,8 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from backends.engine.anatomy import Anatomy
 from backends.engine.quantiles import median
-from backends.engine.segmentation import Grid, Segment
-from backends.engine.trunk import Body, UserBox
+from backends.engine.segmentation import Grid
+from backends.engine.trunk import Body
 from backends.engine.vectors import distance
 from backends.users import hand_id
 from host import Hand, HandState, Joint, Side, Vec3
@@ -93,11 +93,11 @@ class SkeletonEstimator:
     def __post_init__(self) -> None:
         self.anatomy = Anatomy(self.options)
 
-    def estimate(self, seg: Segment, body: Body, extended: tuple[Hand, ...], mirrored: bool) -> Skeleton:
+    def estimate(self, body: Body, extended: tuple[Hand, ...], mirrored: bool) -> Skeleton:
         """This frame's skeleton. `extended`: the tracker's hands that stick out of the body (in view
         or held), whose sides are the performer's."""
         o = self.options = self.anatomy.at(body.scale)  # a child's limbs
-        view = _View.of(seg, body, o)
+        view = _View.of(body, o)
         torso = body.torso
         neck = np.array([torso[0], body.shoulder_y, torso[2]])
         joints = {"head": Joint(_vec(body.head), 1.0), "neck": Joint(_vec(neck), 1.0), "torso": Joint(_vec(torso), 1.0)}
@@ -287,9 +287,8 @@ class _View:
     forearm_rows: np.ndarray  # ... a hanging arm's lower part is looked for in
 
     @classmethod
-    def of(cls, seg: Segment, body: Body, o: SkeletonOptions) -> "_View":
-        user = body.user if body.user is not None else UserBox.of(seg)
-        grid, mask = user.grid, user.mask
+    def of(cls, body: Body, o: SkeletonOptions) -> "_View":
+        grid, mask = body.user.grid, body.user.mask  # the user's box, shared with the body frame and hands
         rows_y = _row_heights(grid.y, mask)
         legs_lo, legs_hi = body.hip_y - o.legs_below_hips_mm[1], body.hip_y - o.legs_below_hips_mm[0]
         top, bottom = body.shoulder_y - o.forearm_below_shoulder_mm, body.shoulder_y - o.arm_length_mm

@@ -153,7 +153,7 @@ class HandTracker:
         hands = self._update_tracks(t, candidates, body.torso, mirrored)
         points = {"torso": _vec(body.torso), "head": _vec(body.head)}
         seen = frozenset(track.id for track in self._tracks if track.seen == t)
-        skeleton = self.skeleton.estimate(seg, body, hands, mirrored)
+        skeleton = self.skeleton.estimate(body, hands, mirrored)
         return TrackResult(hands, points, seen, seg.mask, seg.grid.z, skeleton.joints, skeleton.center_of_mass,
                            skeleton.hands)
 

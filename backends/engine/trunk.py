@@ -65,9 +65,9 @@ class Body:
     hip_y: float  # below this, limbs are legs
     surface_z: float  # depth of the trunk's front surface
     face_z: float  # depth of the face: the head joint less a joint's depth
-    core: np.ndarray  # (h, w) bool: trunk cells on the grid
+    user: UserBox  # the segment's user box it was estimated on, for the stages after it
+    core: np.ndarray  # bool: the trunk's cells on that box (user.mask's shape)
     scale: float = 1.0  # the performer's anatomy relative to an adult's (anatomy.py)
-    user: UserBox | None = None  # the segment's user box it was estimated on, for the stages after it
 
 
 @dataclass(frozen=True)
@@ -176,10 +176,8 @@ class BodyEstimator:
             head = np.array([median(g.x[head_cells]), crown - o.crown_above_head_mm,
                              median(g.z[head_cells]) + o.joint_depth_mm])
         head = self._head_filter(t, head)
-        whole = np.zeros_like(seg.mask)
-        whole[user.box] = core
         return Body(torso, head, shoulder_y, shoulder_y - o.trunk_height_mm, surface,
-                    float(head[2]) - o.joint_depth_mm, whole, scale, user)
+                    float(head[2]) - o.joint_depth_mm, user, core, scale)
 
     def _leaning_head_x(self, x: np.ndarray, y: np.ndarray, mask: np.ndarray, centre_x: float) -> float:
         """Where across to look for the head: above the spine, unless the user's top is a head-wide

@@ -5,7 +5,7 @@ import numpy as np
 
 from backends.engine.hands import HandDetector, HandOptions
 from backends.engine.segmentation import Grid, Segment
-from backends.engine.trunk import Body
+from backends.engine.trunk import Body, UserBox
 
 CELL_MM = 20.0
 
@@ -24,9 +24,11 @@ def scene(patches: list[tuple[slice, slice, float]], face_z: float = 2500.0) -> 
     mask = z > 0
     grid = Grid(z, np.where(mask, x, 0), np.where(mask, y, 0), np.full_like(z, CELL_MM ** 2),
                 CELL_MM / 2500, CELL_MM / 2500)
+    seg = Segment(mask, grid)
+    user = UserBox.of(seg)
     frame = Body(torso=np.array([0.0, -90.0, 2610.0]), head=np.array([0.0, 330.0, face_z + 110.0]),
-                 shoulder_y=150.0, hip_y=-400.0, surface_z=2500.0, face_z=face_z, core=body)
-    return Segment(mask, grid), frame
+                 shoulder_y=150.0, hip_y=-400.0, surface_z=2500.0, face_z=face_z, user=user, core=body[user.box])
+    return seg, frame
 
 
 def test_an_end_by_the_neck_is_no_hand_and_one_a_forearm_away_is():
