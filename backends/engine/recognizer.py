@@ -599,13 +599,17 @@ class _Hand:
             return
         pending = self.tr.pending.pop(stroke.axis, None)
         # a comparable stroke the other way after a pending swipe: of the two the stronger is the swipe,
-        # the other its wind-up or its return; but a return that turns straight into yet another stroke
-        # makes a back-and-forth (a wave's first swings), and neither is. Otherwise the first is confirmed now,
-        # unless a tracker's glitch cut the stroke back short: it waits to see that stroke go on (`cut_short`),
-        # the stroke itself no swipe meanwhile (a turn after all leaves it a short stroke back, a return).
+        # the other its wind-up or its return; but a weaker return that turns straight into yet another
+        # stroke after a swipe at a wave's pace makes a back-and-forth (a wave's first swings), and neither
+        # is. After a slower or lower swipe the return's turn is the hand bouncing at the body (MSRC-12's
+        # p08) or a tracker's glitch: the swipe waits to see the return go on and prove the stronger
+        # (`cut_short`). Otherwise the first is confirmed now, unless a glitch cut a stroke back short: it
+        # waits as well, the stroke itself no swipe meanwhile (a turn after all leaves it a short stroke
+        # back, a return).
         follows = pending is not None and self.comparable(stroke, pending)
         stronger = follows and self.strength(stroke) > self.strength(pending)
-        held = pending is not None and not follows and reversed_ and self.glitched_back(pending, stroke)
+        held = pending is not None and reversed_ and (
+            not stronger and not self.wave_paced(pending) if follows else self.glitched_back(pending, stroke))
         if held:
             self.tr.pending[stroke.axis] = pending
         elif pending is not None and (not follows or not (stronger or reversed_)) and not self.wound_up(pending, stroke):
@@ -656,15 +660,19 @@ class _Hand:
                 and back.direction * float(back.end.v[back.axis]) >= self.r.swipe_min_peak_speed_mm_s)
 
     def cut_short(self, pending: Stroke, current: Stroke | None) -> bool:
-        """May the stroke back from `pending`, glitched (`glitched_back`), yet go on and prove the stronger
-        (`joined`)? While the hand turned from it no longer than `stroke_min_reversal_s` ago, or goes on
-        its way again after such a reversal, the two together so far like a swipe."""
+        """May the stroke back from `pending`, glitched (`glitched_back`) or a comparable return that turned,
+        yet go on and prove the stronger (`joined`)? While the hand turned from it no longer than
+        `stroke_min_reversal_s` ago, or goes on its way again after such a reversal (a glitched stroke:
+        the two together so far like a swipe)."""
         last, jitter = self.tr.last.get(pending.axis), self.tr.jitter.get(pending.axis)
-        if current is None or last is None or not self.glitched_back(pending, last):
+        if current is None or last is None:
+            return False
+        returned = self.comparable(last, pending)
+        if not (returned or self.glitched_back(pending, last)):
             return False
         if current.direction == pending.direction:
             return current.duration <= self.r.stroke_min_reversal_s
-        return jitter is not None and self.swipe_like(_merged(last, jitter, current))
+        return jitter is not None and (returned or self.swipe_like(_merged(last, jitter, current)))
 
     def dropped_on(self, pending: Stroke, current: Stroke | None) -> bool:
         """Did the hand, after a stroke down, turn back for a frame or two (a tracker's jitter, held back)

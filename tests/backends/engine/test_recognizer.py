@@ -185,6 +185,21 @@ def test_a_push_out_with_the_hand_brought_straight_back_is_one_swipe(back_after)
     assert completed(perform(c.push_out(back_after=back_after))) == ["swipe_right"]
 
 
+@pytest.mark.parametrize("bounce_mm", [0.0, 60.0])
+def test_a_swipe_turned_straight_into_its_return_is_one_swipe_though_the_hand_bounces_at_the_body(bounce_mm):
+    """MSRC-12's p08 pushes right in 0.8 s, slower than a wave swings, and brings the hand straight back
+    to the body in 0.5 s, where it bounces `bounce_mm`: the weaker stroke back turned into another
+    stroke. A swipe and its return at a wave's pace could be a wave's first swings; these are not, so
+    the swipe completes (it was dropped, and the return, joined across the bounce, completed instead)."""
+    right = c.rest(Side.RIGHT).hold(0.5).then(0.5, (-200.0, 200.0, -350.0)).then(0.8, (500.0, 150.0, -450.0))
+    right = right.then(0.5, (0.0, 50.0, -300.0))
+    if bounce_mm:
+        right = right.then(0.07, (bounce_mm, 60.0, -280.0)).then(0.1, (0.0, 60.0, -270.0))
+    right = right.hold(0.5).then(0.8, c.REST[Side.RIGHT])
+    performance = c.Performance({Side.LEFT: c.rest(Side.LEFT), Side.RIGHT: right}, right.end + 0.5)
+    assert completed(perform(performance)) == ["swipe_right"]
+
+
 def test_a_swipe_that_may_be_a_wind_up_waits_for_what_follows_but_is_announced_under_way():
     """Across the body, after a swing the other way, or with the other hand moving too, a swipe
     completes only `swipe_confirm_s` after its stroke; its IN_PROGRESS comes while it is under way."""
