@@ -41,6 +41,7 @@ SIZES = ((320, 240), (640, 480))
 LEADS_TRIED = np.arange(0.5, 2.51, 0.125)  # frames: where the skeleton's lead is looked for
 SURFACE_WINDOW_PX = 25  # depth readings this many pixels around a projected hand joint are searched
 TURN_FRAMES = 5  # the timed backends take turns every this many frames (time_backends)
+WARMUP_FRAMES = 5  # each engine's first frames build its per-geometry caches: not timed
 
 
 def engine_backends() -> list[type[EngineBackend]]:
@@ -85,7 +86,7 @@ def time_backends(classes: list[type[EngineBackend]],
                 if cls.geometry is not None:
                     frame = to_geometry(frame, *cls.geometry)
                 engine.track(frame)
-                if i >= 5:  # the first frames build per-geometry caches
+                if i >= WARMUP_FRAMES:
                     times[cls][0].append((time.perf_counter() - start) * 1000)
                     times[cls][1].append((time.thread_time() - thread) * 1000)
     return times

@@ -608,8 +608,9 @@ class _Hand:
         # back, a return).
         follows = pending is not None and self.comparable(stroke, pending)
         stronger = follows and self.strength(stroke) > self.strength(pending)
-        held = pending is not None and reversed_ and (
-            not stronger and not self.wave_paced(pending) if follows else self.glitched_back(pending, stroke))
+        bounced = follows and not stronger and not self.wave_paced(pending)  # a return, then no wave's swing
+        glitched = pending is not None and not follows and self.glitched_back(pending, stroke)
+        held = reversed_ and (bounced or glitched)
         if held:
             self.tr.pending[stroke.axis] = pending
         elif pending is not None and (not follows or not (stronger or reversed_)) and not self.wound_up(pending, stroke):

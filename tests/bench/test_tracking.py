@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from backends.engine.backend import OpenISSBackend, SimpleOpenNIBackend
-from bench.tracking import TURN_FRAMES, synthetic_frames, time_backends
+from bench.tracking import TURN_FRAMES, WARMUP_FRAMES, synthetic_frames, time_backends
 
 
 def spying(cls: type) -> type:
@@ -29,7 +29,7 @@ def test_each_backend_tracks_every_frame_in_order_on_its_own_copy():
     times = time_backends(spies, frames)
     for spy in spies:
         assert [t for t, _ in spy.tracked] == [f.timestamp for f in frames]
-        assert len(times[spy][0]) == len(times[spy][1]) == len(frames) - 5  # the first five build caches
+        assert len(times[spy][0]) == len(times[spy][1]) == len(frames) - WARMUP_FRAMES
         assert all(ms > 0 for ms in times[spy][0])
     first, second = ([data for _, data in spy.tracked] for spy in spies)
     assert all((a == f.data).all() and a is not f.data and b is not f.data and a is not b
